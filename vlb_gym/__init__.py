@@ -1,0 +1,20 @@
+"""vlb-gym: verifiable behaviors composed from motion primitives.
+
+Importing the package registers ``VLB-GridExplore-v0``.
+"""
+
+from gymnasium.envs.registration import register, registry
+
+from .core import BehaviorPolicy, BehaviorSpecError, load_behavior, shipped_behaviors
+from .wrappers import RobustnessWrapper
+
+__version__ = "0.1.0"
+
+ENV_IDS = ("VLB-GridExplore-v0",)
+
+if "VLB-GridExplore-v0" not in registry:
+    register(id="VLB-GridExplore-v0", entry_point="vlb_gym.envs.grid_explore:GridExploreEnv",
+             max_episode_steps=500)
+
+__all__ = ["ENV_IDS", "BehaviorPolicy", "BehaviorSpecError", "RobustnessWrapper",
+           "load_behavior", "shipped_behaviors", "__version__"]

@@ -1,0 +1,272 @@
+"""The ``vlb`` command line: verify behaviors, plan campaigns, replay episodes, list behaviors."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+
+import vlb_gym
+from vlb_gym.core.library import compile_for, shipped_behaviors
+from vlb_gym.core.spec import BehaviorSpecError, json_schema
+from vlb_gym.verify import bounds
+from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_campaign
+from vlb_gym.verify.episode import run_episode
+
+
+class UsageError(Exception):
+    """Bad input from the command line; printed without a traceback, exit code 2."""
+
+
+def _probability(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0 < value < 1:
+        raise argparse.ArgumentTypeError(f"{text} must lie strictly between 0 and 1")
+    return value
+
+
+def _count(minimum: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"{text} must be at least {minimum}")
+        return value
+    return parse
+
+
+def _env_kwargs(pairs: list[str]) -> dict[str, Any]:
+    kwargs = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.isidentifier():
+            raise UsageError(f"--env-kwarg {pair!r}: expected NAME=VALUE, e.g. action_noise=0.5")
+        try:
+            kwargs[key] = json.loads(value)
+        except json.JSONDecodeError:
+            kwargs[key] = value
+    return kwargs
+
+
+def _check_env(env_id: str, kwargs: dict[str, Any]) -> None:
+    if env_id not in gym.registry:
+        known = ", ".join(vlb_gym.ENV_IDS)
+        raise UsageError(f"unknown environment {env_id!r} (vlb-gym registers: {known})")
+    try:
+        gym.make(env_id, **kwargs).close()
+    except (TypeError, ValueError) as exc:
+        raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {exc}") from None
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", dir=path.parent, delete=False, suffix=".tmp") as tmp:
+        tmp.write(text)
+    os.replace(tmp.name, path)
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    kwargs = _env_kwargs(args.env_kwarg)
+    _check_env(args.env_id, kwargs)
+    config = CampaignConfig(args.env_id, args.behavior, args.episodes, args.epsilon, args.delta,
+                            args.seed, kwargs, stop_on_failure=not args.keep_going)
+    build(config)[0].close()  # compile the behavior here, so a bad file fails before any episode
+    stream = open(args.episodes_out, "w") if args.episodes_out else None
+    bar = None
+    if not args.quiet and sys.stderr.isatty():
+        from tqdm import tqdm
+        bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
+
+    def on_episode(result):
+        if stream:
+            stream.write(json.dumps(result.to_dict()) + "\n")
+            stream.flush()
+        if bar:
+            bar.update()
+
+    try:
+        report = run_campaign(config, args.workers, on_episode)
+    finally:
+        if bar:
+            bar.close()
+        if stream:
+            stream.close()
+    if args.report:
+        _write_atomic(Path(args.report), json.dumps(report, indent=2) + "\n")
+    print(summary(report, args.report))
+    return 0
+
+
+def summary(report: dict[str, Any], report_path: str | None = None) -> str:
+    """The human-readable outcome of a campaign."""
+    lines = [
+        f"{report['env_id']} / {report['behavior']}: {report['episodes']} episodes "
+        f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
+        f"{report['episodes_per_second']:.0f} episodes/s)",
+        f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
+        f"  P[success] >= {1 - report['epsilon']:g} with confidence {report['confidence']:.5f}",
+        f"  P[success] >= {report['lower_bound']:.5f} at confidence level "
+        f"{1 - report['delta']:g} (one-sided Clopper-Pearson)",
+        f"  holds for: {report['sampling_distribution']}",
+    ]
+    failed = report["failed_episodes"]
+    for item in failed[:5]:
+        lines.append(f"  failed episode {item['index']} (seed {item['seed']}): {item['reason']}")
+    if len(failed) > 5:
+        lines.append(f"  ... {len(failed) - 5} more failed episodes in the report")
+    if failed:
+        lines.append(f"  replay one: vlb replay {report['env_id']} --behavior {report['behavior']} "
+                     f"--seed {failed[0]['seed']}")
+    if report_path:
+        lines.append(f"  report: {report_path}")
+    return "\n".join(lines)
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    n = bounds.min_episodes(args.epsilon, args.confidence, args.failures)
+    if args.json:
+        print(json.dumps({"epsilon": args.epsilon, "confidence": args.confidence,
+                          "failures": args.failures, "episodes": n}))
+    else:
+        print(f"{n} episodes: with at most {args.failures} failure(s), P[success] >= "
+              f"{1 - args.epsilon:g} holds with confidence >= {args.confidence:g} "
+              f"(reached: {bounds.confidence(n, args.failures, args.epsilon):.5f})")
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    kwargs = _env_kwargs(args.env_kwarg)
+    _check_env(args.env_id, kwargs)
+    seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
+    config = CampaignConfig(args.env_id, args.behavior, 1, env_kwargs=kwargs)
+    env, policy = build(config)
+    result = run_episode(env, policy, seed, stop_on_failure=not args.keep_going)
+    for number, info in enumerate(env.history, 1):
+        mark = "ok " if info["certificate"] else "FAIL"
+        extra = f"  ({info['reason']})" if "reason" in info else ""
+        print(f"{number:4d} {mark} {info['primitive']:<10} {info['param']}{extra}")
+    print(f"rho_B = {result.rho:+d}, finished={result.finished}, primitives={result.primitives}"
+          + (f", reason: {result.reason}" if result.reason else ""))
+    return 0
+
+
+def cmd_behaviors(args: argparse.Namespace) -> int:
+    if args.name is None:
+        for name in shipped_behaviors():
+            print(name)
+        return 0
+    _check_env(args.env_id, {})
+    compiled = compile_for(args.name, gym.make(args.env_id))
+    if args.json:
+        print(compiled.spec.model_dump_json(by_alias=True, indent=2, exclude_defaults=True))
+        return 0
+    print(f"{compiled.name}: {compiled.spec.description}")
+    for node in compiled.spec.nodes:
+        kind = f"primitive {node.primitive}" if node.primitive else f"behavior {node.behavior}"
+        tags = (" [start]" if node.id == compiled.start_node else "") + \
+               (" [terminal]" if node.id in compiled.terminals else "")
+        print(f"  node {node.id}: {kind}{tags}")
+    for edge in compiled.spec.edges:
+        print(f"  edge {edge.source} -> {edge.to}: if {edge.guard}"
+              + (f", param {edge.param}" if edge.param else "")
+              + "".join(f", {k} := {v}" for k, v in edge.set.items()))
+    return 0
+
+
+def cmd_schema(args: argparse.Namespace) -> int:
+    print(json.dumps(json_schema(), indent=2))
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    top = argparse.ArgumentParser(
+        prog="vlb", description="Verifiable behaviors from motion primitives: run campaigns of "
+        "i.i.d. episodes and turn them into probabilistic guarantees.")
+    top.add_argument("--version", action="version", version=f"vlb-gym {vlb_gym.__version__}")
+    sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    def env_kwarg(p: argparse.ArgumentParser) -> None:
+        p.add_argument("--env-kwarg", action="append", default=[], metavar="NAME=VALUE",
+                       help="keyword argument for gym.make, e.g. action_noise=0.5 (repeatable)")
+
+    v = sub.add_parser("verify", help="run a verification campaign and print the guarantee",
+                       description="Run N i.i.d. episodes of a behavior (N fixed in advance) and "
+                       "report the confidence that P[success] >= 1 - epsilon and a one-sided "
+                       "Clopper-Pearson lower bound on P[success]. Exit code 0 whenever the "
+                       "campaign finished, whatever its outcome.")
+    v.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-GridExplore-v0")
+    v.add_argument("--behavior", required=True, metavar="NAME_OR_FILE",
+                   help="a shipped behavior name (see 'vlb behaviors') or a behavior JSON file")
+    v.add_argument("--episodes", required=True, type=_count(1), metavar="N")
+    v.add_argument("--epsilon", required=True, type=_probability, metavar="EPS",
+                   help="the claim is P[success] >= 1 - EPS")
+    v.add_argument("--delta", type=_probability, default=0.05,
+                   help="lower bound at confidence level 1 - DELTA (default 0.05)")
+    v.add_argument("--seed", type=_count(0), default=0, help="campaign seed (default 0)")
+    v.add_argument("--workers", type=_count(1), default=1, help="processes (default 1)")
+    v.add_argument("--report", metavar="PATH", help="write the JSON report here")
+    v.add_argument("--episodes-out", metavar="PATH",
+                   help="stream one JSON line per episode here as episodes finish")
+    v.add_argument("--keep-going", action="store_true",
+                   help="run each episode to its end even after a certificate failed")
+    v.add_argument("--quiet", action="store_true", help="no progress bar")
+    env_kwarg(v)
+    v.set_defaults(func=cmd_verify)
+
+    p = sub.add_parser("plan", help="print the number of episodes a guarantee needs",
+                       description="Least N such that N episodes with at most K failures give "
+                       "confidence C that P[success] >= 1 - EPS.")
+    p.add_argument("--epsilon", required=True, type=_probability, metavar="EPS")
+    p.add_argument("--confidence", required=True, type=_probability, metavar="C")
+    p.add_argument("--failures", type=_count(0), default=0, metavar="K")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_plan)
+
+    r = sub.add_parser("replay", help="re-run one episode step by step",
+                       description="Re-run one episode from its reset seed (as listed in a "
+                       "report's failed_episodes) and print every primitive with its certificate.")
+    r.add_argument("env_id", metavar="ENV_ID")
+    r.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
+    r.add_argument("--seed", required=True, type=_count(0),
+                   help="the episode's reset seed, or the campaign seed with --index")
+    r.add_argument("--index", type=_count(0), help="episode index within campaign --seed")
+    r.add_argument("--keep-going", action="store_true",
+                   help="continue after the first failed certificate")
+    env_kwarg(r)
+    r.set_defaults(func=cmd_replay)
+
+    b = sub.add_parser("behaviors", help="list shipped behaviors, or show one",
+                       description="Without NAME, list the shipped behaviors; with NAME (or a "
+                       "file), check it against ENV and print its graph.")
+    b.add_argument("name", nargs="?", metavar="NAME_OR_FILE")
+    b.add_argument("--env", dest="env_id", default="VLB-GridExplore-v0")
+    b.add_argument("--json", action="store_true", help="print the behavior file")
+    b.set_defaults(func=cmd_behaviors)
+
+    s = sub.add_parser("schema", help="print the JSON Schema of behavior files")
+    s.set_defaults(func=cmd_schema)
+    return top
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (UsageError, BehaviorSpecError, OSError) as exc:
+        print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

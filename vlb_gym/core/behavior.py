@@ -1,0 +1,311 @@
+"""Behaviors (the paper's Definition 2): compile a :class:`BehaviorSpec` and run it as a policy.
+
+:func:`compile_behavior` checks a spec against an environment's :class:`BehaviorInterface` --
+references, expressions, the graph (every node reachable from the start, a terminal reachable from
+every node) -- before anything runs. :class:`BehaviorPolicy` then maps observations to actions with
+a Stable-Baselines3-like ``predict``; it keeps its position in the graph (a stack of frames, one per
+active sub-behavior) and its variables, and sets :attr:`BehaviorPolicy.finished` once it rests in a
+terminal node with no edge to take.
+
+Run-time semantics: after a node's primitive (or sub-behavior) completes, its outgoing edges are
+tried in file order and the first whose guard holds is taken; its ``set`` assignments run in order,
+then its ``param`` is evaluated for the next primitive. If no guard holds, a terminal node finishes
+its behavior (returning control to the parent's node), and a non-terminal node is an error.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol
+
+import networkx as nx
+import numpy as np
+
+from .expressions import BUILTINS, Expression, ExpressionError, guard_namespace
+from .helpers import Helpers, arity
+from .primitive import MotionPrimitive
+from .spec import BehaviorSpec, BehaviorSpecError
+
+VALUE = -1  # arity marker of names that are values, not functions
+
+
+class BehaviorInterface(Protocol):
+    """What an environment offers to behaviors (implemented by the env classes)."""
+
+    primitives: Mapping[str, MotionPrimitive[Any]]
+
+    def make_helpers(self) -> Helpers: ...
+
+    def encode_action(self, primitive: str, param: Any) -> np.ndarray: ...
+
+
+#: resolve(reference, base_dir) -> (spec, source, base_dir of that spec)
+Resolver = Callable[[str, Path | None], tuple[BehaviorSpec, str, Path | None]]
+
+
+class BehaviorRuntimeError(RuntimeError):
+    """A behavior failed while running (a runtime error in the graph); the episode fails."""
+
+
+@dataclass(frozen=True)
+class _Node:
+    id: str
+    primitive: str | None
+    child: CompiledBehavior | None
+
+
+@dataclass(frozen=True)
+class _Edge:
+    source: str
+    to: str
+    guard: Expression
+    param: Expression | None
+    assignments: tuple[tuple[str, Expression], ...]
+
+
+@dataclass
+class CompiledBehavior:
+    """A checked behavior, ready to run against one environment interface."""
+
+    name: str
+    source: str
+    spec: BehaviorSpec
+    nodes: dict[str, _Node]
+    out_edges: dict[str, list[_Edge]]
+    start_node: str
+    start_param: Expression | None
+    terminals: frozenset[str]
+    variables: tuple[tuple[str, Expression], ...]
+    functions: tuple[tuple[str, Expression], ...]
+    graph: nx.MultiDiGraph = field(repr=False)
+
+    def primitives_used(self) -> set[str]:
+        """Names of all primitives this behavior and its sub-behaviors may run."""
+        used = set()
+        for node in self.nodes.values():
+            used |= node.child.primitives_used() if node.child else {node.primitive}
+        return used
+
+
+def _fail(source: str, place: str, message: str) -> BehaviorSpecError:
+    return BehaviorSpecError(f"{source}: {place}: {message}")
+
+
+def _expr(text: str, names: Mapping[str, int | None], source: str, place: str,
+          args: tuple[str, ...] | None = None) -> Expression:
+    try:
+        return Expression(text, {**names, **{a: VALUE for a in args or ()}},
+                          f"{source}: {place}", args=args)
+    except ExpressionError as exc:
+        raise BehaviorSpecError(str(exc)) from None
+
+
+def _function_order(spec: BehaviorSpec, source: str) -> list[str]:
+    calls = nx.DiGraph()
+    calls.add_nodes_from(spec.functions)
+    for name, fn in spec.functions.items():
+        for other in spec.functions:
+            if other in _expr_names(fn.expr):
+                calls.add_edge(other, name)
+    try:
+        return list(nx.topological_sort(calls))
+    except nx.NetworkXUnfeasible:
+        cycle = " -> ".join(a for a, _ in nx.find_cycle(calls))
+        raise _fail(source, "functions", f"recursive functions are not allowed ({cycle})") from None
+
+
+def _expr_names(text: str) -> set[str]:
+    try:
+        return {n.id for n in ast.walk(ast.parse(text, mode="eval")) if isinstance(n, ast.Name)}
+    except SyntaxError:
+        return set()
+
+
+def compile_behavior(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
+                     resolve: Resolver, base_dir: Path | None = None,
+                     _chain: tuple[str, ...] = ()) -> CompiledBehavior:
+    """Check ``spec`` against ``interface`` and compile it; raise :class:`BehaviorSpecError`."""
+    chain = (*_chain, source)
+    helper_fns = interface.make_helpers().functions()
+    names: dict[str, int | None] = {n: None for n in BUILTINS}
+    names.update({n: arity(f) for n, f in helper_fns.items()})
+    for kind, declared in (("variables", spec.variables), ("functions", spec.functions)):
+        for name in declared:
+            if name in names:
+                raise _fail(source, f"{kind}.{name}", "name is already taken by a helper, a "
+                                                      "builtin or another declaration")
+            names[name] = VALUE if kind == "variables" else len(spec.functions[name].args)
+
+    functions = []
+    for name in _function_order(spec, source):
+        fn = spec.functions[name]
+        clash = [a for a in fn.args if a in names]
+        if clash or len(set(fn.args)) != len(fn.args):
+            raise _fail(source, f"functions.{name}.args", f"argument names must be new and "
+                                                          f"distinct ({', '.join(clash)})")
+        functions.append((name, _expr(fn.expr, names, source, f"functions.{name}.expr",
+                                      tuple(fn.args))))
+    variables = tuple((v, _expr(text, names, source, f"variables.{v}"))
+                      for v, text in spec.variables.items())
+
+    nodes: dict[str, _Node] = {}
+    for i, node in enumerate(spec.nodes):
+        place = f"nodes[{i}]"
+        if node.id in nodes:
+            raise _fail(source, f"{place}.id", f"duplicate node id {node.id!r}")
+        child = None
+        if node.primitive is not None and node.primitive not in interface.primitives:
+            known = ", ".join(sorted(interface.primitives))
+            raise _fail(source, f"{place}.primitive",
+                        f"unknown primitive {node.primitive!r} (this environment has: {known})")
+        if node.behavior is not None:
+            child_spec, child_source, child_dir = resolve(node.behavior, base_dir)
+            if child_source in chain:
+                raise _fail(source, f"{place}.behavior", "sub-behavior cycle: "
+                            + " -> ".join((*chain, child_source)))
+            child = compile_behavior(child_spec, interface, child_source, resolve, child_dir, chain)
+        nodes[node.id] = _Node(node.id, node.primitive, child)
+
+    def check_target(node_id: str, param: str | None, place: str) -> Expression | None:
+        if node_id not in nodes:
+            raise _fail(source, place.rsplit(".", 1)[0] + (".to" if "edges" in place else ".node"),
+                        f"unknown node {node_id!r}")
+        if nodes[node_id].child is not None:
+            if param is not None:
+                raise _fail(source, place, f"node {node_id!r} is a sub-behavior and takes no param")
+            return None
+        if param is None:
+            raise _fail(source, place, f"node {node_id!r} runs primitive "
+                                       f"{nodes[node_id].primitive!r} and needs a param")
+        return _expr(param, names, source, place)
+
+    out_edges: dict[str, list[_Edge]] = {n: [] for n in nodes}
+    graph = nx.MultiDiGraph(name=spec.name)
+    for node in nodes.values():
+        graph.add_node(node.id, primitive=node.primitive,
+                       behavior=node.child.name if node.child else None)
+    for i, edge in enumerate(spec.edges):
+        place = f"edges[{i}]"
+        if edge.source not in nodes:
+            raise _fail(source, f"{place}.from", f"unknown node {edge.source!r}")
+        param = check_target(edge.to, edge.param, f"{place}.param")
+        for var in edge.set:
+            if var not in spec.variables:
+                raise _fail(source, f"{place}.set.{var}", f"{var!r} is not a declared variable")
+        compiled = _Edge(edge.source, edge.to, _expr(edge.guard, names, source, f"{place}.guard"),
+                         param, tuple((v, _expr(t, names, source, f"{place}.set.{v}"))
+                                      for v, t in edge.set.items()))
+        out_edges[edge.source].append(compiled)
+        graph.add_edge(edge.source, edge.to, guard=edge.guard, param=edge.param, order=i)
+    start_param = check_target(spec.start.node, spec.start.param, "start.param")
+    for i, terminal in enumerate(spec.terminals):
+        if terminal not in nodes:
+            raise _fail(source, f"terminals[{i}]", f"unknown node {terminal!r}")
+
+    reachable = nx.descendants(graph, spec.start.node) | {spec.start.node}
+    unreachable = [n for n in nodes if n not in reachable]
+    if unreachable:
+        raise _fail(source, "nodes", f"not reachable from the start node: {', '.join(unreachable)}")
+    finishing = set(spec.terminals).union(*(nx.ancestors(graph, t) for t in spec.terminals))
+    stuck = [n for n in nodes if n not in finishing]
+    if stuck:
+        raise _fail(source, "terminals", f"no terminal node is reachable from: {', '.join(stuck)}")
+    return CompiledBehavior(spec.name, source, spec, nodes, out_edges, spec.start.node,
+                            start_param, frozenset(spec.terminals), variables, tuple(functions),
+                            graph)
+
+
+class _Frame:
+    __slots__ = ("behavior", "ns", "node")
+
+    def __init__(self, behavior: CompiledBehavior, static: Mapping[str, Any]):
+        self.behavior = behavior
+        self.ns = guard_namespace(static)
+        self.node = behavior.start_node
+        for name, fn in behavior.functions:
+            self.ns[name] = fn.evaluate(self.ns)
+
+
+class BehaviorPolicy:
+    """A compiled behavior acting as a policy on one environment.
+
+    ``predict(obs)`` returns ``(action, None)``; once the behavior has finished it returns
+    ``(None, None)`` and :attr:`finished` is True. A :class:`BehaviorRuntimeError` means the
+    behavior itself failed (stuck in a non-terminal node, an expression raised, a parameter outside
+    the primitive's space).
+    """
+
+    def __init__(self, behavior: CompiledBehavior, interface: BehaviorInterface):
+        self.behavior = behavior
+        self._interface = interface
+        self._helpers = interface.make_helpers()
+        self._static = {**BUILTINS, **self._helpers.functions()}
+        self.reset()
+
+    @property
+    def name(self) -> str:
+        return self.behavior.name
+
+    def reset(self) -> None:
+        """Forget the position in the graph and the variables; the next predict starts anew."""
+        self._stack: list[_Frame] = []
+        self._started = False
+        self.finished = False
+        self.trace: list[tuple[str, str]] = []  # (behavior, node) of every primitive chosen
+
+    def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
+                deterministic: bool = True) -> tuple[np.ndarray | None, None]:
+        """The next action for ``observation``, or None once the behavior has finished."""
+        if episode_start is not None and np.any(episode_start):
+            self.reset()
+        if self.finished:
+            return None, None
+        self._helpers.bind(observation)
+        if not self._started:
+            self._started = True
+            return self._enter_behavior(self.behavior), None
+        return self._advance(), None
+
+    def _run(self, expr: Expression, frame: _Frame) -> Any:
+        try:
+            return expr.evaluate(frame.ns)
+        except Exception as exc:  # any failure of the behavior's own logic fails the episode
+            raise BehaviorRuntimeError(f"{expr.where}: {type(exc).__name__}: {exc}") from exc
+
+    def _enter_behavior(self, behavior: CompiledBehavior) -> np.ndarray:
+        frame = _Frame(behavior, self._static)
+        self._stack.append(frame)
+        for name, expr in behavior.variables:
+            frame.ns[name] = self._run(expr, frame)
+        return self._enter_node(frame, behavior.start_node, behavior.start_param)
+
+    def _enter_node(self, frame: _Frame, node_id: str, param: Expression | None) -> np.ndarray:
+        frame.node = node_id
+        node = frame.behavior.nodes[node_id]
+        if node.child is not None:
+            return self._enter_behavior(node.child)
+        value = self._run(param, frame)
+        self.trace.append((frame.behavior.name, node_id))
+        try:
+            return self._interface.encode_action(node.primitive, value)
+        except ValueError as exc:
+            raise BehaviorRuntimeError(f"{param.where}: {exc}") from exc
+
+    def _advance(self) -> np.ndarray | None:
+        while self._stack:
+            frame = self._stack[-1]
+            for edge in frame.behavior.out_edges[frame.node]:
+                if self._run(edge.guard, frame):
+                    for name, expr in edge.assignments:
+                        frame.ns[name] = self._run(expr, frame)
+                    return self._enter_node(frame, edge.to, edge.param)
+            if frame.node not in frame.behavior.terminals:
+                raise BehaviorRuntimeError(
+                    f"{frame.behavior.source}: stuck at node {frame.node!r}: no edge guard holds "
+                    "and the node is not terminal")
+            self._stack.pop()
+        self.finished = True
+        return None

@@ -1,0 +1,52 @@
+"""Helper functions that behaviors may call: the paper's E-functions, one set per environment.
+
+Helpers read only the current observation (bound with :meth:`Helpers.bind` before every decision);
+the environment, which knows ``d``, judges admissibility and certificates. Subclasses mark their
+methods with :func:`helper`; the marked methods, with their signatures and docstrings, are what the
+expression checker whitelists and what prompts describe.
+"""
+
+from __future__ import annotations
+
+import abc
+import inspect
+from collections.abc import Callable
+from typing import Any
+
+_MARK = "__vlb_helper__"
+
+
+def helper(fn: Callable[..., Any]) -> Callable[..., Any]:
+    """Mark a method of a :class:`Helpers` subclass as callable from behavior expressions."""
+    setattr(fn, _MARK, True)
+    return fn
+
+
+def arity(fn: Callable[..., Any]) -> int | None:
+    """The fixed number of positional arguments of ``fn``, or None if it takes a range."""
+    params = inspect.signature(fn).parameters.values()
+    if any(p.kind is p.VAR_POSITIONAL for p in params):
+        return None
+    required = sum(1 for p in params if p.default is p.empty)
+    return required if required == len(params) else None
+
+
+class Helpers(abc.ABC):
+    """Base class: a named set of decision functions over one observation."""
+
+    @abc.abstractmethod
+    def bind(self, observation: Any) -> None:
+        """Make ``observation`` the one the helpers read."""
+
+    def functions(self) -> dict[str, Callable[..., Any]]:
+        """Bound helper methods by name."""
+        return {name: getattr(self, name) for name in dir(type(self))
+                if getattr(getattr(type(self), name), _MARK, False)}
+
+    def describe(self) -> dict[str, str]:
+        """``name(signature)`` -> first docstring paragraph, for documentation and prompts."""
+        out = {}
+        for name, fn in self.functions().items():
+            doc = inspect.getdoc(fn) or ""
+            out[f"{name}{inspect.signature(fn)}"] = doc.split("\n\n")[0]
+        return out

@@ -1,0 +1,128 @@
+"""The behavior file format: a JSON document validated by pydantic (schema in ``vlb_gym/schema``).
+
+A behavior ``B = (N, E, S, T)`` (the paper's Definition 2) is written as::
+
+    {
+      "name": "explore_until_goal",
+      "variables": {"home": "current_cell()"},          # behavior-local, initial-value expressions
+      "functions": {"E4": {"args": [], "expr": "..."}},  # new decision functions, as expressions
+      "nodes": [{"id": "sense", "primitive": "sense"},   # N: primitives or whole sub-behaviors
+                {"id": "explore", "behavior": "explore_until_goal"}],
+      "edges": [{"from": "sense", "to": "go", "guard": "not goal_found()", "param": "E4()",
+                 "set": {"trips": "trips + 1"}}],        # E: first edge whose guard holds is taken
+      "start": {"node": "sense", "param": "current_cell()"},   # S
+      "terminals": ["sense"]                             # T
+    }
+
+Every string that is evaluated is an expression of :mod:`vlb_gym.core.expressions`.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated, Any
+
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints, ValidationError, model_validator
+
+Identifier = Annotated[str, StringConstraints(pattern=r"^[A-Za-z][A-Za-z0-9_]*$", max_length=64)]
+ExpressionText = Annotated[str, StringConstraints(min_length=1, max_length=2000)]
+
+SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schema" / "behavior.schema.json"
+
+
+class BehaviorSpecError(ValueError):
+    """A behavior file is invalid; the message names the file and the place."""
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", populate_by_name=True, frozen=True)
+
+
+class Node(_Model):
+    """A node of the graph: exactly one of a primitive name or a sub-behavior name/file."""
+
+    id: Identifier
+    primitive: Identifier | None = None
+    behavior: str | None = Field(None, min_length=1, max_length=500)
+    description: str = ""
+
+    @model_validator(mode="after")
+    def _one_kind(self) -> "Node":
+        if (self.primitive is None) == (self.behavior is None):
+            raise ValueError("a node names exactly one of 'primitive' or 'behavior'")
+        return self
+
+
+class Edge(_Model):
+    """A directed edge; ``param`` chooses the next primitive's parameter."""
+
+    source: Identifier = Field(alias="from")
+    to: Identifier
+    guard: ExpressionText = "True"
+    param: ExpressionText | None = None
+    set: dict[Identifier, ExpressionText] = Field(default_factory=dict)
+    description: str = ""
+
+
+class Start(_Model):
+    """The start function S: first node and, for a primitive, its parameter."""
+
+    node: Identifier
+    param: ExpressionText | None = None
+
+
+class Function(_Model):
+    """A named decision function composed from helpers (e.g. the paper's E4)."""
+
+    args: list[Identifier] = Field(default_factory=list, max_length=8)
+    expr: ExpressionText
+    description: str = ""
+
+
+class BehaviorSpec(_Model):
+    """A whole behavior file."""
+
+    name: Identifier
+    description: str = ""
+    env: str | None = Field(None, description="environment id the behavior is written for")
+    variables: dict[Identifier, ExpressionText] = Field(default_factory=dict)
+    functions: dict[Identifier, Function] = Field(default_factory=dict)
+    nodes: list[Node] = Field(min_length=1, max_length=256)
+    edges: list[Edge] = Field(default_factory=list, max_length=1024)
+    start: Start
+    terminals: list[Identifier] = Field(min_length=1)
+
+
+def _place(loc: tuple[Any, ...]) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out or "(document)"
+
+
+def parse_spec(text: str | bytes, source: str = "<behavior>") -> BehaviorSpec:
+    """Parse and schema-check a behavior document; errors name ``source`` and the place."""
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise BehaviorSpecError(f"{source}: line {exc.lineno} column {exc.colno}: "
+                                f"invalid JSON: {exc.msg}") from None
+    return spec_from_data(data, source)
+
+
+def spec_from_data(data: Any, source: str = "<behavior>") -> BehaviorSpec:
+    """Schema-check an already decoded behavior document."""
+    try:
+        return BehaviorSpec.model_validate(data)
+    except ValidationError as exc:
+        lines = [f"{source}: {_place(err['loc'])}: {err['msg']}" for err in exc.errors()]
+        raise BehaviorSpecError("\n".join(lines)) from None
+
+
+def json_schema() -> dict[str, Any]:
+    """The JSON Schema of behavior files (the one shipped at ``SCHEMA_PATH``)."""
+    schema = BehaviorSpec.model_json_schema(by_alias=True)
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["$id"] = "https://vlb-gym.invalid/behavior.schema.json"
+    return schema

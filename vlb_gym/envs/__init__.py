@@ -1,0 +1,1 @@
+"""Environments of vlb-gym; each registers itself on ``import vlb_gym``."""

@@ -1,0 +1,54 @@
+"""Sampling of start/environment pairs uniformly from the allowable space (paper eq. allowable_space).
+
+A pair ``(x, d)`` is allowable when the start cell is empty (neither obstacle nor goal) and at least
+one goal is reachable from it through free cells. Rejection sampling from the product of
+
+* ``d``: ``n_obstacles`` obstacle cells and ``n_goals`` goal cells, a uniformly random subset, and
+* ``x``: a position uniform on ``[-h, h]^2`` with all labels unexplored,
+
+restricted to allowable pairs is exactly the uniform distribution on the allowable space.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+from .types import GridState, Label, cell_of
+
+_FOUR = ndimage.generate_binary_structure(2, 1)
+MAX_TRIES = 10_000
+
+
+def free_components(truth: np.ndarray) -> np.ndarray:
+    """4-connected components of the non-obstacle cells (0 marks obstacles)."""
+    return ndimage.label(truth != Label.OBSTACLE, structure=_FOUR)[0]
+
+
+def is_allowable(truth: np.ndarray, component: np.ndarray, cell: tuple[int, int]) -> bool:
+    """Start cell empty and some goal in the same free component."""
+    if truth[cell] != Label.EMPTY:
+        return False
+    return bool(np.any(component[truth == Label.GOAL] == component[cell]))
+
+
+def sample_state(rng: np.random.Generator, size: int, n_obstacles: int, n_goals: int) -> GridState:
+    """Draw ``(x, d)`` uniformly from the allowable space."""
+    if n_obstacles + n_goals >= size * size:
+        raise ValueError(f"{n_obstacles} obstacles and {n_goals} goals do not fit a "
+                         f"{size}x{size} grid with a free start cell")
+    half = size / 2
+    for _ in range(MAX_TRIES):
+        chosen = rng.choice(size * size, n_obstacles + n_goals, replace=False)
+        truth = np.full(size * size, Label.EMPTY, dtype=np.int8)
+        truth[chosen[:n_obstacles]] = Label.OBSTACLE
+        truth[chosen[n_obstacles:]] = Label.GOAL
+        truth = truth.reshape(size, size)
+        position = rng.uniform(-half, half, size=2)
+        cell = cell_of(position, size)
+        component = free_components(truth)
+        if is_allowable(truth, component, cell):
+            labels = np.full((size, size), Label.UNEXPLORED, dtype=np.int8)
+            return GridState(truth, labels, position, cell, component)
+    raise RuntimeError(f"no allowable start/environment pair found in {MAX_TRIES} draws "
+                       f"(size={size}, obstacles={n_obstacles}, goals={n_goals})")

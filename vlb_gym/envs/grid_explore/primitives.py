@@ -1,0 +1,119 @@
+"""The two primitives of the exploration study (paper Sec. V-A): ``sense`` and ``navigate``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from gymnasium import spaces
+
+from vlb_gym.core.primitive import ControllerFailure, MotionPrimitive
+
+from . import planner
+from .types import GridState, Label
+
+Cell = tuple[int, int]
+
+
+def sensed_cells(size: int, cell: Cell) -> tuple[np.ndarray, np.ndarray]:
+    """Index arrays of ``cell`` and its in-grid 4-neighbours."""
+    i, j = cell
+    cand = [(i, j), (i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)]
+    keep = [(a, b) for a, b in cand if 0 <= a < size and 0 <= b < size]
+    return np.array([a for a, _ in keep]), np.array([b for _, b in keep])
+
+
+def cost_to_go(state: GridState, target: Cell) -> np.ndarray:
+    """Cached optimal cost-to-go to ``target`` in the true environment."""
+    key = target[0] * state.size + target[1]
+    dist = state.distances.get(key)
+    if dist is None:
+        dist = state.distances[key] = planner.cost_to_go(state.truth != Label.OBSTACLE, target)
+    return dist
+
+
+@dataclass(frozen=True)
+class LabelsMatch:
+    """R of ``sense``: states whose labels at ``cells`` equal the true ones."""
+
+    cells: tuple[np.ndarray, np.ndarray]
+
+    def contains(self, state: GridState) -> bool:
+        return bool(np.array_equal(state.labels[self.cells], state.truth[self.cells]))
+
+
+@dataclass(frozen=True)
+class InCell:
+    """R of ``navigate``: states whose position lies in the square of ``cell``."""
+
+    cell: Cell
+
+    def contains(self, state: GridState) -> bool:
+        low = np.array(self.cell) - state.size / 2
+        return bool(np.all(state.position >= low) and np.all(state.position < low + 1))
+
+
+class Sense(MotionPrimitive[GridState]):
+    """P1: set the labels of the current cell and its 4 neighbours to the true ones."""
+
+    name = "sense"
+
+    def __init__(self, size: int):
+        self.param_space = spaces.MultiDiscrete([size, size])
+        self.description = ("Label update: the labels of the agent's current cell and its four "
+                            "adjacent cells become the true ones. Parameter: the cell the agent "
+                            "occupies (the only admissible one).")
+
+    def admissible(self, state: GridState, param: Cell) -> bool:
+        return tuple(param) == state.cell
+
+    def terminal_region(self, state: GridState, param: Cell) -> LabelsMatch:
+        return LabelsMatch(sensed_cells(state.size, param))
+
+    def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> None:
+        cells = sensed_cells(state.size, param)
+        state.labels[cells] = state.truth[cells]
+
+
+class Navigate(MotionPrimitive[GridState]):
+    """P2: steer the agent to a target cell around obstacles (MDP plan + PD tracking)."""
+
+    name = "navigate"
+
+    def __init__(self, size: int, action_noise: float):
+        self.param_space = spaces.MultiDiscrete([size, size])
+        self.action_noise = action_noise
+        self.description = ("Navigation: steers the agent to the target cell while avoiding "
+                            "obstacles, with an MDP planner tracked by a PD controller. Parameter: "
+                            "the target cell; admissible when it is reachable.")
+
+    def admissible(self, state: GridState, param: Cell) -> bool:
+        target = tuple(param)
+        return bool(state.component[target] != 0
+                    and state.component[target] == state.component[state.cell])
+
+    def terminal_region(self, state: GridState, param: Cell) -> InCell:
+        return InCell(tuple(param))
+
+    def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> None:
+        path = planner.greedy_path(cost_to_go(state, tuple(param)), state.cell)
+        half = state.size / 2
+        waypoints = np.array(path[1:] or path, dtype=float) - half + 0.5
+        ref = planner.reference(state.position, waypoints)
+        noise = None
+        if self.action_noise > 0:
+            noise = rng.normal(0.0, planner.DT * self.action_noise, size=ref.shape)
+        trajectory = planner.track(state.position, ref, noise)
+        cells = np.floor(trajectory + half).astype(np.int64)
+        outside = np.any((cells < 0) | (cells >= state.size), axis=1)
+        np.clip(cells, 0, state.size - 1, out=cells)
+        blocked = outside | (state.truth[cells[:, 0], cells[:, 1]] == Label.OBSTACLE)
+        if blocked.any():
+            hit = int(np.argmax(blocked))
+            state.trail.append(trajectory[:hit])
+            if hit:
+                state.position = trajectory[hit - 1]
+            where = "the grid's edge" if outside[hit] else f"an obstacle in cell {tuple(cells[hit])}"
+            raise ControllerFailure(f"collided with {where}")
+        state.trail.append(trajectory)
+        state.position = trajectory[-1]

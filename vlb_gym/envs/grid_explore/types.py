@@ -1,0 +1,53 @@
+"""Types of the grid exploration world: labels and the joint state (x, d)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+import numpy as np
+
+
+class Label(IntEnum):
+    """Cell labels, in the paper's order {empty, obstacle, unexplored, goal}."""
+
+    EMPTY = 0
+    OBSTACLE = 1
+    UNEXPLORED = 2
+    GOAL = 3
+
+
+LABEL_NAMES: tuple[str, ...] = tuple(label.name.lower() for label in Label)
+
+
+def cell_of(position: np.ndarray, size: int) -> tuple[int, int]:
+    """The cell containing ``position`` (points on the outer boundary clip inward)."""
+    half = size / 2
+    return (min(max(int(np.floor(position[0] + half)), 0), size - 1),
+            min(max(int(np.floor(position[1] + half)), 0), size - 1))
+
+
+@dataclass
+class GridState:
+    """The joint state: ``x`` = (position, agent labels), ``d`` = the true labels.
+
+    Cell ``(i, j)`` covers ``[-h + i, -h + i + 1) x [-h + j, -h + j + 1)`` with ``h = size / 2``;
+    ``i`` indexes x and ``j`` indexes y. Arrays are indexed ``[i, j]``; flat index ``i * size + j``.
+    """
+
+    truth: np.ndarray  # (size, size) int8, d: EMPTY / OBSTACLE / GOAL
+    labels: np.ndarray  # (size, size) int8, the agent's labels (part of x)
+    position: np.ndarray  # (2,) float64, the agent's planar position (part of x)
+    start_cell: tuple[int, int]
+    component: np.ndarray  # (size, size) int32, 4-connected free components of d (0: obstacle)
+    distances: dict[int, np.ndarray] = field(default_factory=dict)  # target -> steps-to-go
+    trail: list[np.ndarray] = field(default_factory=list)  # trajectories, for rendering
+
+    @property
+    def size(self) -> int:
+        return self.truth.shape[0]
+
+    @property
+    def cell(self) -> tuple[int, int]:
+        """The cell the agent occupies."""
+        return cell_of(self.position, self.size)

@@ -1,0 +1,149 @@
+"""Verification campaigns: N i.i.d. episodes -> a probabilistic guarantee.
+
+Episode ``i`` of a campaign with seed ``s`` resets the environment with the ``i``-th child of
+``numpy.random.SeedSequence(s)`` (as ``SeedSequence(s).spawn(N)[i]`` would give), so results do
+not depend on the number of workers or on the order in which episodes finish.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import platform
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from vlb_gym.core.library import load_behavior
+from vlb_gym.wrappers import RobustnessWrapper
+
+from . import bounds
+from .episode import EpisodeResult, Policy, run_episode
+
+
+@dataclass(frozen=True)
+class CampaignConfig:
+    """Everything that defines a campaign; N is fixed before it starts."""
+
+    env_id: str
+    behavior: str
+    episodes: int
+    epsilon: float = 0.05
+    delta: float = 0.05
+    seed: int = 0
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    stop_on_failure: bool = True
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.episodes, int) or self.episodes < 1:
+            raise ValueError(f"episodes must be a positive integer (got {self.episodes!r})")
+        for name in ("epsilon", "delta"):
+            value = getattr(self, name)
+            if not 0 < value < 1:
+                raise ValueError(f"{name} must lie strictly between 0 and 1 (got {value!r})")
+        if not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"seed must be a non-negative integer (got {self.seed!r})")
+
+
+def episode_seed(campaign_seed: int, index: int) -> int:
+    """The reset seed of episode ``index``: the index-th spawned child of the campaign's seed."""
+    child = np.random.SeedSequence(campaign_seed, spawn_key=(index,))
+    return int(child.generate_state(1, dtype=np.uint64)[0])
+
+
+def build(config: CampaignConfig) -> tuple[RobustnessWrapper, Policy]:
+    """The wrapped environment and the compiled behavior of a campaign."""
+    env = RobustnessWrapper(gym.make(config.env_id, **config.env_kwargs))
+    return env, load_behavior(config.behavior, env)
+
+
+_WORKER: tuple[CampaignConfig, RobustnessWrapper, Policy] | None = None
+
+
+def _init_worker(config: CampaignConfig) -> None:
+    global _WORKER
+    _WORKER = (config, *build(config))
+
+
+def _run_index(index: int) -> EpisodeResult:
+    config, env, policy = _WORKER
+    return run_episode(env, policy, episode_seed(config.seed, index), index,
+                       config.stop_on_failure)
+
+
+def iter_episodes(config: CampaignConfig, workers: int = 1,
+                  indices: range | list[int] | None = None) -> Iterator[EpisodeResult]:
+    """Stream episode results as they finish (in index order for one worker)."""
+    if not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be a positive integer (got {workers!r})")
+    indices = range(config.episodes) if indices is None else indices
+    env, policy = build(config)  # also checks the behavior before any worker starts
+    if workers == 1:
+        for i in indices:
+            yield run_episode(env, policy, episode_seed(config.seed, i), i, config.stop_on_failure)
+        return
+    env.close()
+    chunk = max(1, min(64, len(indices) // (workers * 16)))
+    context = mp.get_context("forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn")
+    with context.Pool(workers, initializer=_init_worker, initargs=(config,)) as pool:
+        yield from pool.imap_unordered(_run_index, indices, chunksize=chunk)
+
+
+def sampling_distribution(config: CampaignConfig) -> str:
+    """Words for the distribution the guarantee holds under (the env's own description)."""
+    env = gym.make(config.env_id, **config.env_kwargs)
+    describe = getattr(env.unwrapped, "sampling_distribution", None)
+    text = describe() if callable(describe) else f"{config.env_id}.reset() with spawned seeds"
+    env.close()
+    return text
+
+
+def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: float,
+                 workers: int) -> dict[str, Any]:
+    """The JSON report of a finished campaign (keys per ARCHITECTURE.md, plus context)."""
+    results = sorted(results, key=lambda r: r.index)
+    n = len(results)
+    failures = sum(not r.success for r in results)
+    conf = bounds.confidence(n, failures, config.epsilon)
+    low = bounds.lower_bound(n, failures, config.delta)
+    distribution = sampling_distribution(config)
+    return {
+        "env_id": config.env_id,
+        "behavior": config.behavior,
+        "episodes": n,
+        "successes": n - failures,
+        "failures": failures,
+        "epsilon": config.epsilon,
+        "confidence": conf,
+        "delta": config.delta,
+        "lower_bound": low,
+        "seed": config.seed,
+        "statement": (f"P[success] >= {1 - config.epsilon:g} with confidence {conf:.5f}; "
+                      f"P[success] >= {low:.5f} at confidence level {1 - config.delta:g} "
+                      "(one-sided Clopper-Pearson)"),
+        "sampling_distribution": distribution,
+        "env_kwargs": config.env_kwargs,
+        "failed_episodes": [{"index": r.index, "seed": r.seed, "reason": r.reason}
+                            for r in results if not r.success],
+        "mean_primitives": float(np.mean([r.primitives for r in results])),
+        "wall_seconds": seconds,
+        "episodes_per_second": n / seconds if seconds > 0 else None,
+        "workers": workers,
+        "machine": f"{platform.machine()} {platform.system()}, {mp.cpu_count()} cpus, "
+                   f"Python {platform.python_version()}",
+    }
+
+
+def run_campaign(config: CampaignConfig, workers: int = 1,
+                 on_episode: Callable[[EpisodeResult], None] | None = None) -> dict[str, Any]:
+    """Run all N episodes and return the report; ``on_episode`` sees each result as it lands."""
+    started = time.perf_counter()
+    results = []
+    for result in iter_episodes(config, workers):
+        results.append(result)
+        if on_episode is not None:
+            on_episode(result)
+    return build_report(config, results, time.perf_counter() - started, workers)

@@ -1,0 +1,5 @@
+"""Gymnasium wrappers of vlb-gym."""
+
+from .robustness import RobustnessWrapper
+
+__all__ = ["RobustnessWrapper"]

@@ -1,0 +1,71 @@
+"""A wrapper that scores every episode with the behavior robustness rho_B."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+
+from vlb_gym.core.robustness import behavior_robustness
+
+
+class RobustnessWrapper(gym.Wrapper):
+    """Collects each step's certificate and writes rho_B into ``info`` when the episode ends.
+
+    Works for any policy. The episode ends, and ``info`` gains the keys of :meth:`end`, when
+
+    * the environment terminates (the task says it is finished: ``finished=True``),
+    * it is truncated (``finished=False``), or
+    * the caller calls :meth:`end` -- a behavior graph does so when it reaches a terminal node
+      with no edge to take (``finished=True``), a runner when the policy raised (``False``).
+
+    rho_B is +1 iff the behavior finished and every certificate held, else -1: an inadmissible
+    parameter, a failed controller, a runtime error in the behavior and running past the step
+    bound all give -1.
+    """
+
+    def __init__(self, env: gym.Env):
+        super().__init__(env)
+        self.certificates: list[bool] = []
+        self.history: list[dict[str, Any]] = []  # every step's info, for replays
+        self.first_failure: str | None = None
+        self.summary: dict[str, Any] | None = None
+
+    def reset(self, **kwargs: Any):
+        self.certificates = []
+        self.history = []
+        self.first_failure = None
+        self.summary = None
+        return self.env.reset(**kwargs)
+
+    def step(self, action: Any):
+        if self.summary is not None:
+            raise RuntimeError("the episode has ended (rho_B is recorded); call reset()")
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        certificate = bool(info["certificate"])
+        self.certificates.append(certificate)
+        self.history.append(info)
+        if not certificate and self.first_failure is None:
+            self.first_failure = (f"step {len(self.certificates)}: {info['primitive']} "
+                                  f"{info['param']}: {info.get('reason', 'certificate failed')}")
+        if terminated or truncated:
+            info = {**info, **self.end(terminated, None if terminated else "truncated: step bound")}
+        return obs, reward, terminated, truncated, info
+
+    @property
+    def failed(self) -> bool:
+        """Whether some certificate has already failed (rho_B will be -1)."""
+        return self.first_failure is not None
+
+    def end(self, finished: bool, reason: str | None = None) -> dict[str, Any]:
+        """End the episode; return (and keep in :attr:`summary`) rho_B and how it came about."""
+        if self.summary is not None:
+            return self.summary
+        rho = behavior_robustness(finished, self.certificates)
+        if rho < 0:  # the first failed certificate is the root cause when there is one
+            reason = self.first_failure or reason or "behavior did not finish"
+        self.summary = {"rho_B": rho, "finished": bool(finished),
+                        "primitives": len(self.certificates),
+                        "failed_certificates": self.certificates.count(False),
+                        "failure_reason": reason if rho < 0 else None}
+        return self.summary
