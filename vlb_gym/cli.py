@@ -86,6 +86,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     bar = None
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm
+        tqdm.monitor_interval = 0  # no monitor thread: campaign workers are forked
         bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
 
     def on_episode(result):

@@ -68,6 +68,8 @@ BUILTINS: dict[str, Callable[..., Any]] = {
 
 def _bounded(iterable: Iterable[Any]) -> list[Any]:
     """Materialise a comprehension source, refusing anything longer than MAX_SEQUENCE."""
+    if type(iterable) is list and len(iterable) <= MAX_SEQUENCE:  # the common case, no copy
+        return iterable
     if isinstance(iterable, (list, tuple, str, range)) and len(iterable) > MAX_SEQUENCE:
         raise ValueError(f"comprehension over {len(iterable)} items exceeds {MAX_SEQUENCE}")
     items = []

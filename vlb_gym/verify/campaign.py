@@ -87,7 +87,9 @@ def iter_episodes(config: CampaignConfig, workers: int = 1,
         return
     env.close()
     chunk = max(1, min(64, len(indices) // (workers * 16)))
-    context = mp.get_context("forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn")
+    # fork: workers start in milliseconds and scripts need no __main__ guard; nothing here runs
+    # threads before the pool starts (the CLI's progress bar runs without a monitor thread)
+    context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
     with context.Pool(workers, initializer=_init_worker, initargs=(config,)) as pool:
         yield from pool.imap_unordered(_run_index, indices, chunksize=chunk)
 

@@ -13,7 +13,7 @@ from vlb_gym.core.primitive import MotionPrimitive, execute
 from .generator import sample_state
 from .helpers import GridHelpers
 from .primitives import Navigate, Sense
-from .types import GridState, Label
+from .types import GOAL, GridState, Label
 from .viewer import render_rgb
 
 
@@ -130,15 +130,18 @@ class GridExploreEnv(gym.Env):
         if self._state is None:
             raise RuntimeError("call reset() before step()")
         array = np.asarray(action)
-        if array.dtype.kind not in "iu" or not self.action_space.contains(array.astype(np.int64)):
+        if array.shape != (3,) or array.dtype.kind not in "iu":
             raise ValueError(f"action {action!r} is not in the action space {self.action_space}: "
-                             "expected [primitive (0 sense, 1 navigate), i, j] with "
-                             f"0 <= i, j < {self.size}")
-        primitive = self._by_index[int(array[0])]
-        outcome = execute(primitive, self._state, (int(array[1]), int(array[2])), self.np_random)
+                             "expected an integer array [primitive (0 sense, 1 navigate), i, j]")
+        kind, i, j = array.tolist()
+        if not (0 <= kind < 2 and 0 <= i < self.size and 0 <= j < self.size):
+            raise ValueError(f"action {action!r} is not in the action space {self.action_space}: "
+                             f"primitive must be 0 (sense) or 1 (navigate) and 0 <= i, j < "
+                             f"{self.size}")
+        outcome = execute(self._by_index[kind], self._state, (i, j), self.np_random)
         info = outcome.as_info()
         info["cell"] = self._state.cell
-        info["goal_found"] = bool(np.any(self._state.labels == Label.GOAL))
+        info["goal_found"] = bool(np.any(self._state.labels == GOAL))
         return self._observation(), 0.0, False, False, info
 
     def render(self) -> np.ndarray | None:

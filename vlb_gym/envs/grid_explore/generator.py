@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-from .types import GridState, Label, cell_of
+from .planner import padded_blocked
+from .types import EMPTY, GOAL, OBSTACLE, UNEXPLORED, GridState, cell_of
 
 _FOUR = ndimage.generate_binary_structure(2, 1)
 MAX_TRIES = 10_000
@@ -22,14 +23,14 @@ MAX_TRIES = 10_000
 
 def free_components(truth: np.ndarray) -> np.ndarray:
     """4-connected components of the non-obstacle cells (0 marks obstacles)."""
-    return ndimage.label(truth != Label.OBSTACLE, structure=_FOUR)[0]
+    return ndimage.label(truth != OBSTACLE, structure=_FOUR)[0]
 
 
 def is_allowable(truth: np.ndarray, component: np.ndarray, cell: tuple[int, int]) -> bool:
     """Start cell empty and some goal in the same free component."""
-    if truth[cell] != Label.EMPTY:
+    if truth[cell] != EMPTY:
         return False
-    return bool(np.any(component[truth == Label.GOAL] == component[cell]))
+    return bool(np.any(component[truth == GOAL] == component[cell]))
 
 
 def sample_state(rng: np.random.Generator, size: int, n_obstacles: int, n_goals: int) -> GridState:
@@ -40,15 +41,16 @@ def sample_state(rng: np.random.Generator, size: int, n_obstacles: int, n_goals:
     half = size / 2
     for _ in range(MAX_TRIES):
         chosen = rng.choice(size * size, n_obstacles + n_goals, replace=False)
-        truth = np.full(size * size, Label.EMPTY, dtype=np.int8)
-        truth[chosen[:n_obstacles]] = Label.OBSTACLE
-        truth[chosen[n_obstacles:]] = Label.GOAL
+        truth = np.full(size * size, EMPTY, dtype=np.int8)
+        truth[chosen[:n_obstacles]] = OBSTACLE
+        truth[chosen[n_obstacles:]] = GOAL
         truth = truth.reshape(size, size)
         position = rng.uniform(-half, half, size=2)
         cell = cell_of(position, size)
         component = free_components(truth)
         if is_allowable(truth, component, cell):
-            labels = np.full((size, size), Label.UNEXPLORED, dtype=np.int8)
-            return GridState(truth, labels, position, cell, component)
+            labels = np.full((size, size), UNEXPLORED, dtype=np.int8)
+            blocked = padded_blocked(truth != OBSTACLE)
+            return GridState(truth, labels, position, cell, component, blocked)
     raise RuntimeError(f"no allowable start/environment pair found in {MAX_TRIES} draws "
                        f"(size={size}, obstacles={n_obstacles}, goals={n_goals})")

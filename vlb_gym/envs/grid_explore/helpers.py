@@ -11,7 +11,7 @@ from typing import Any
 from vlb_gym.core.helpers import Helpers, helper
 
 from .planner import _neighbours
-from .types import LABEL_NAMES, Label, cell_of
+from .types import GOAL, LABEL_NAMES, UNEXPLORED, cell_of
 
 Cell = tuple[int, int]
 
@@ -22,6 +22,7 @@ class GridHelpers(Helpers):
     def __init__(self, size: int):
         self.size = size
         self._cells = [divmod(k, size) for k in range(size * size)]
+        self._flat = {cell: k for k, cell in enumerate(self._cells)}
         self._adjacent = [[self._cells[m] for m in ms] for ms in _neighbours(size)]
         self._labels: list[int] = []
         self._here: Cell = (0, 0)
@@ -31,6 +32,10 @@ class GridHelpers(Helpers):
         self._here = cell_of(observation["position"], self.size)
 
     def _index(self, cell: Any, fn: str) -> int:
+        if type(cell) is tuple:  # fast path: a well-formed cell tuple
+            k = self._flat.get(cell)
+            if k is not None:
+                return k
         try:
             i, j = cell
         except (TypeError, ValueError):
@@ -43,8 +48,7 @@ class GridHelpers(Helpers):
     @helper
     def explored(self) -> list[Cell]:
         """E1: all cells whose label is not 'unexplored', in flat-index order."""
-        unexplored = Label.UNEXPLORED
-        return [self._cells[k] for k, lab in enumerate(self._labels) if lab != unexplored]
+        return [self._cells[k] for k, lab in enumerate(self._labels) if lab != UNEXPLORED]
 
     @helper
     def adjacent(self, cell: Cell | None = None) -> list[Cell]:
@@ -54,13 +58,13 @@ class GridHelpers(Helpers):
     @helper
     def goal_found(self) -> bool:
         """E3: whether some cell is labelled 'goal'."""
-        return Label.GOAL in self._labels
+        return GOAL in self._labels
 
     @helper
     def goal_cell(self) -> Cell | None:
         """E3: the first cell labelled 'goal', or None if no goal has been found."""
         try:
-            return self._cells[self._labels.index(Label.GOAL)]
+            return self._cells[self._labels.index(GOAL)]
         except ValueError:
             return None
 

@@ -19,7 +19,7 @@ from collections import deque
 from functools import lru_cache
 
 import numpy as np
-from scipy.signal import lfilter, lfiltic
+from scipy.signal import lfilter
 
 DT = 0.05  # s per integration step
 SPEED = 2.0  # cells per second along the plan
@@ -31,7 +31,7 @@ UNREACHABLE = np.iinfo(np.int32).max
 # closed loop: p_{k+1} = A1 p_k + A2 p_{k-1} + B0 r_k + B1 r_{k-1} + dt sigma w_k
 A1, A2 = 1.0 - DT * KP - KD, KD
 B0, B1 = DT * KP + KD, -KD
-_DEN = np.array([1.0, -A1, -A2])
+_NUM, _DEN = np.array([1.0]), np.array([1.0, -A1, -A2])
 
 
 @lru_cache(maxsize=8)
@@ -83,12 +83,32 @@ def greedy_path(dist: np.ndarray, start: tuple[int, int]) -> list[tuple[int, int
 
 def reference(start: np.ndarray, waypoints: np.ndarray) -> np.ndarray:
     """Reference positions, one per step: along ``start -> waypoints`` at SPEED, then hold."""
-    points = np.vstack([start, waypoints])
-    cumulative = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
-    steps = int(np.ceil(cumulative[-1] / (SPEED * DT))) + SETTLE
-    s = np.minimum(np.arange(1, steps + 1) * (SPEED * DT), cumulative[-1])
+    points = np.concatenate([start[None], waypoints])
+    step = np.diff(points, axis=0)
+    cumulative = np.zeros(len(points))
+    np.cumsum(np.hypot(step[:, 0], step[:, 1]), out=cumulative[1:])
+    length = cumulative[-1]
+    s = np.arange(1, int(np.ceil(length / (SPEED * DT))) + SETTLE + 1) * (SPEED * DT)
+    np.minimum(s, length, out=s)
     return np.column_stack([np.interp(s, cumulative, points[:, 0]),
                             np.interp(s, cumulative, points[:, 1])])
+
+
+def first_collision(trajectory: np.ndarray, blocked: np.ndarray) -> int:
+    """Index of the first point in a blocked cell or off the grid, or -1.
+
+    ``blocked`` is the obstacle mask padded with a blocked border (see :func:`padded_blocked`).
+    """
+    size = blocked.shape[0] - 2
+    # +1 shifts into the padded frame; anything off the grid truncates or clips onto the border
+    cells = np.clip((trajectory + (size / 2 + 1)).astype(np.intp), 0, size + 1)
+    hits = blocked[cells[:, 0], cells[:, 1]]
+    return int(hits.argmax()) if hits.any() else -1
+
+
+def padded_blocked(passable: np.ndarray) -> np.ndarray:
+    """The obstacle mask with a one-cell blocked border (the grid's edge)."""
+    return np.pad(~passable, 1, constant_values=True)
 
 
 def track(start: np.ndarray, ref: np.ndarray, noise: np.ndarray | None) -> np.ndarray:
@@ -96,12 +116,10 @@ def track(start: np.ndarray, ref: np.ndarray, noise: np.ndarray | None) -> np.nd
 
     ``noise`` is the per-step displacement ``dt sigma w_k`` (shape like ``ref``) or None.
     """
-    previous = np.vstack([ref[:1], ref[:-1]])  # r_{k-1}, with r_{-1} = r_0 (no derivative kick)
-    drive = B0 * ref + B1 * previous
+    drive = (B0 + B1) * ref  # B1 r_{k-1}, with r_{-1} = r_0 (no derivative kick) ...
+    drive[1:] -= B1 * np.diff(ref, axis=0)  # ... and B1 (r_{k-1} - r_k) for k >= 1
     if noise is not None:
-        drive = drive + noise
-    out = np.empty_like(ref)
-    for axis in range(2):
-        zi = lfiltic([1.0], _DEN, [start[axis], start[axis]])
-        out[:, axis] = lfilter([1.0], _DEN, drive[:, axis], zi=zi)[0]
-    return out
+        drive += noise
+    # transposed direct form II state for p_0 = p_{-1} = start (at rest)
+    zi = np.array([(A1 + A2) * start, A2 * start])
+    return lfilter(_NUM, _DEN, drive, axis=0, zi=zi)[0]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from gymnasium import spaces
@@ -10,11 +11,12 @@ from gymnasium import spaces
 from vlb_gym.core.primitive import ControllerFailure, MotionPrimitive
 
 from . import planner
-from .types import GridState, Label
+from .types import OBSTACLE, GridState
 
 Cell = tuple[int, int]
 
 
+@lru_cache(maxsize=4096)
 def sensed_cells(size: int, cell: Cell) -> tuple[np.ndarray, np.ndarray]:
     """Index arrays of ``cell`` and its in-grid 4-neighbours."""
     i, j = cell
@@ -28,7 +30,7 @@ def cost_to_go(state: GridState, target: Cell) -> np.ndarray:
     key = target[0] * state.size + target[1]
     dist = state.distances.get(key)
     if dist is None:
-        dist = state.distances[key] = planner.cost_to_go(state.truth != Label.OBSTACLE, target)
+        dist = state.distances[key] = planner.cost_to_go(state.truth != OBSTACLE, target)
     return dist
 
 
@@ -39,7 +41,7 @@ class LabelsMatch:
     cells: tuple[np.ndarray, np.ndarray]
 
     def contains(self, state: GridState) -> bool:
-        return bool(np.array_equal(state.labels[self.cells], state.truth[self.cells]))
+        return bool((state.labels[self.cells] == state.truth[self.cells]).all())
 
 
 @dataclass(frozen=True)
@@ -49,8 +51,10 @@ class InCell:
     cell: Cell
 
     def contains(self, state: GridState) -> bool:
-        low = np.array(self.cell) - state.size / 2
-        return bool(np.all(state.position >= low) and np.all(state.position < low + 1))
+        half = state.size / 2
+        x, y = state.position.tolist()
+        i, j = self.cell
+        return i - half <= x < i - half + 1 and j - half <= y < j - half + 1
 
 
 class Sense(MotionPrimitive[GridState]):
@@ -97,23 +101,22 @@ class Navigate(MotionPrimitive[GridState]):
 
     def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> None:
         path = planner.greedy_path(cost_to_go(state, tuple(param)), state.cell)
-        half = state.size / 2
-        waypoints = np.array(path[1:] or path, dtype=float) - half + 0.5
+        waypoints = np.array(path[1:] or path, dtype=float)
+        waypoints -= state.size / 2 - 0.5  # cell centres
         ref = planner.reference(state.position, waypoints)
         noise = None
         if self.action_noise > 0:
             noise = rng.normal(0.0, planner.DT * self.action_noise, size=ref.shape)
         trajectory = planner.track(state.position, ref, noise)
-        cells = np.floor(trajectory + half).astype(np.int64)
-        outside = np.any((cells < 0) | (cells >= state.size), axis=1)
-        np.clip(cells, 0, state.size - 1, out=cells)
-        blocked = outside | (state.truth[cells[:, 0], cells[:, 1]] == Label.OBSTACLE)
-        if blocked.any():
-            hit = int(np.argmax(blocked))
-            state.trail.append(trajectory[:hit])
-            if hit:
-                state.position = trajectory[hit - 1]
-            where = "the grid's edge" if outside[hit] else f"an obstacle in cell {tuple(cells[hit])}"
-            raise ControllerFailure(f"collided with {where}")
-        state.trail.append(trajectory)
-        state.position = trajectory[-1]
+        hit = planner.first_collision(trajectory, state.blocked)
+        if hit < 0:
+            state.trail.append(trajectory)
+            state.position = trajectory[-1]
+            return
+        state.trail.append(trajectory[:hit])
+        if hit:
+            state.position = trajectory[hit - 1]
+        point = trajectory[hit]
+        if np.all(np.abs(point) < state.size / 2):
+            raise ControllerFailure(f"collided with an obstacle in cell {state.cell_of(point)}")
+        raise ControllerFailure("collided with the grid's edge")
