@@ -127,8 +127,10 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
     if len(failed) > 5:
         lines.append(f"  ... {len(failed) - 5} more failed episodes in the report")
     if failed:
+        kwargs = "".join(f" --env-kwarg {k}={json.dumps(v)}"
+                         for k, v in report["env_kwargs"].items())
         lines.append(f"  replay one: vlb replay {report['env_id']} --behavior {report['behavior']} "
-                     f"--seed {failed[0]['seed']}")
+                     f"--seed {failed[0]['seed']}{kwargs}")
     if report_path:
         lines.append(f"  report: {report_path}")
     return "\n".join(lines)

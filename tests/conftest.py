@@ -1,0 +1,46 @@
+"""Shared fixtures: registered envs and a behavior runner."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import gymnasium as gym
+import pytest
+
+import vlb_gym
+from vlb_gym.wrappers import RobustnessWrapper
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+@pytest.fixture
+def grid_env():
+    env = RobustnessWrapper(gym.make("VLB-GridExplore-v0"))
+    yield env
+    env.close()
+
+
+@pytest.fixture
+def write_behavior(tmp_path):
+    """Write a behavior document (dict or raw text) to a file and return its path."""
+
+    def write(doc, name: str = "behavior.json") -> Path:
+        path = tmp_path / name
+        path.write_text(doc if isinstance(doc, str) else json.dumps(doc))
+        return path
+
+    return write
+
+
+def explore_doc(**changes) -> dict:
+    """A copy of the shipped explore_until_goal document with top-level fields replaced."""
+    from importlib import resources
+
+    doc = json.loads(resources.files("vlb_gym.behaviors").joinpath("explore_until_goal.json")
+                     .read_text())
+    doc.update(changes)
+    return doc
+
+
+__all__ = ["EXAMPLES", "explore_doc", "vlb_gym"]

@@ -1,0 +1,272 @@
+"""Behavior files: validation errors that name the file and the place, and run-time semantics."""
+
+from __future__ import annotations
+
+import json
+
+import gymnasium as gym
+import networkx as nx
+import numpy as np
+import pytest
+
+from vlb_gym import BehaviorSpecError, load_behavior, shipped_behaviors
+from vlb_gym.core.behavior import BehaviorRuntimeError
+from vlb_gym.core.library import compile_for
+from vlb_gym.core.spec import SCHEMA_PATH, json_schema
+from vlb_gym.envs.grid_explore.types import GOAL, UNEXPLORED, cell_of
+
+from .conftest import explore_doc
+
+
+def run(env, policy, seed):
+    """Run one episode of ``policy``; return the list of step infos and the wrapper's summary."""
+    obs, _ = env.reset(seed=seed)
+    policy.reset()
+    infos = []
+    while env.summary is None:
+        action, _ = policy.predict(obs)
+        if action is None:
+            env.end(finished=True)
+            break
+        obs, _, _, _, info = env.step(action)
+        infos.append(info)
+    return infos, env.summary
+
+
+def test_shipped_behaviors_and_schema_file():
+    assert {"explore_until_goal", "find_goal_and_oscillate"} <= set(shipped_behaviors())
+    assert json.loads(SCHEMA_PATH.read_text()) == json_schema()  # shipped schema is current
+
+
+def test_graph_view_of_behavior_2(grid_env):
+    compiled = compile_for("find_goal_and_oscillate", grid_env)
+    assert isinstance(compiled.graph, nx.MultiDiGraph)
+    assert set(compiled.graph.nodes) == {"explore", "to_goal", "to_start"}
+    assert compiled.graph.nodes["explore"]["behavior"] == "explore_until_goal"
+    assert compiled.primitives_used() == {"sense", "navigate"}
+    child = compiled.nodes["explore"].child
+    assert child.terminals == {"sense"} and child.start_node == "sense"
+
+
+def test_behavior_1_explores_until_a_goal_is_sensed(grid_env):
+    policy = load_behavior("explore_until_goal", grid_env)
+    for seed in range(20):
+        infos, summary = run(grid_env, policy, seed)
+        assert summary["rho_B"] == 1 and policy.finished
+        assert infos[-1]["primitive"] == "sense" and infos[-1]["goal_found"]
+        assert not any(i["goal_found"] for i in infos[:-1])
+        assert [i["primitive"] for i in infos[::2]] == ["sense"] * len(infos[::2])
+
+
+def test_behavior_2_oscillates_five_round_trips(grid_env):
+    policy = load_behavior("find_goal_and_oscillate", grid_env)
+    for seed in range(20):
+        infos, summary = run(grid_env, policy, seed)
+        assert summary["rho_B"] == 1
+        start = grid_env.unwrapped.state.start_cell
+        goal = next(i for i in infos if i["goal_found"])
+        oscillation = infos[infos.index(goal) + 1:]
+        assert len(oscillation) == 10 and all(i["primitive"] == "navigate" for i in oscillation)
+        assert [i["param"] for i in oscillation[1::2]] == [start] * 5
+        assert len({i["param"] for i in oscillation[::2]}) == 1
+        assert grid_env.unwrapped.state.truth[oscillation[0]["param"]] == GOAL
+        assert grid_env.unwrapped.state.cell == start
+
+
+def e4_reference(labels: np.ndarray) -> tuple[int, int]:
+    """The paper's E4 written directly: first explored non-obstacle cell with most unexplored
+    neighbours, cells in flat order."""
+    grid = labels.reshape(10, 10)
+    best, best_count = None, -1
+    for i in range(10):
+        for j in range(10):
+            if grid[i, j] in (UNEXPLORED, 1):
+                continue
+            count = sum(1 for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1))
+                        if 0 <= a < 10 and 0 <= b < 10 and grid[a, b] == UNEXPLORED)
+            if count > best_count:
+                best, best_count = (i, j), count
+    return best
+
+
+def test_e4_expression_matches_a_direct_implementation(grid_env):
+    policy = load_behavior("explore_until_goal", grid_env)
+    checked = 0
+    for seed in range(15):
+        obs, _ = grid_env.reset(seed=seed)
+        policy.reset()
+        action, _ = policy.predict(obs)
+        while action is not None:
+            obs, _, _, _, info = grid_env.step(action)
+            action, _ = policy.predict(obs)
+            if action is not None and action[0] == 1:
+                assert tuple(action[1:]) == e4_reference(obs["labels"])
+                checked += 1
+    assert checked > 30
+
+
+def test_variables_are_per_episode(grid_env):
+    policy = load_behavior("find_goal_and_oscillate", grid_env)
+    run(grid_env, policy, 0)
+    first_home = grid_env.unwrapped.state.start_cell
+    infos, _ = run(grid_env, policy, 1)
+    assert infos[-1]["param"] == grid_env.unwrapped.state.start_cell != first_home
+
+
+def test_predict_after_finish_returns_none(grid_env):
+    policy = load_behavior("explore_until_goal", grid_env)
+    run(grid_env, policy, 3)
+    assert policy.predict({"labels": None, "position": None}) == (None, None)
+
+
+# -- bad behavior files: each error names the file and the place -------------------------------
+
+SENSE_GO = [{"id": "sense", "primitive": "sense"}, {"id": "go", "primitive": "navigate"}]
+
+
+def bad(name, place, message, **doc):
+    return pytest.param(doc, place, message, id=name)
+
+
+BAD_DOCS = [
+    bad("unknown primitive", "nodes[1].primitive", "unknown primitive 'fly'",
+        nodes=[SENSE_GO[0], {"id": "go", "primitive": "fly"}]),
+    bad("dangling edge", "edges[1].to", "unknown node 'nowhere'",
+        edges=[{"from": "sense", "to": "go", "param": "(0, 0)"},
+               {"from": "go", "to": "nowhere", "param": "(0, 0)"}]),
+    bad("dangling edge source", "edges[0].from", "unknown node 'ghost'",
+        edges=[{"from": "ghost", "to": "go", "param": "(0, 0)"}]),
+    bad("no reachable terminal", "terminals", "no terminal node is reachable from: go",
+        edges=[{"from": "sense", "to": "go", "param": "(0, 0)"},
+               {"from": "go", "to": "go", "param": "(0, 0)"}]),
+    bad("unreachable node", "nodes", "not reachable from the start node: go", edges=[]),
+    bad("unknown terminal", "terminals[0]", "unknown node 'end'", terminals=["end"]),
+    bad("duplicate id", "nodes[1].id", "duplicate node id 'sense'",
+        nodes=[SENSE_GO[0], {"id": "sense", "primitive": "navigate"}]),
+    bad("missing param", "edges[0].param", "needs a param",
+        edges=[{"from": "sense", "to": "go"}, {"from": "go", "to": "sense",
+                                              "param": "current_cell()"}]),
+    bad("import", "edges[0].param", "call to '__import__', which is not a whitelisted function",
+        edges=[{"from": "sense", "to": "go", "param": "__import__('os')"}]),
+    bad("attribute access", "edges[0].guard", "forbidden syntax: Attribute",
+        edges=[{"from": "sense", "to": "go", "guard": "current_cell().count", "param": "(0, 0)"}]),
+    bad("lambda call", "edges[0].param", "only helpers called by plain name are allowed",
+        edges=[{"from": "sense", "to": "go", "param": "(lambda: (0, 0))()"}]),
+    bad("malformed expression", "edges[0].param", "syntax error",
+        edges=[{"from": "sense", "to": "go", "param": "current_cell("}]),
+    bad("unknown helper", "functions.frontier.expr", "call to 'explord', which is not a whitelisted function",
+        functions={"frontier": {"args": [], "expr": "explord()"}}),
+    bad("recursive functions", "functions", "recursive functions are not allowed",
+        functions={"f": {"args": [], "expr": "g()"}, "g": {"args": [], "expr": "f()"}}),
+    bad("variable shadows helper", "variables.label", "already taken",
+        variables={"label": "0"}),
+    bad("unknown variable in set", "edges[0].set.n", "not a declared variable",
+        edges=[{"from": "sense", "to": "go", "param": "(0, 0)", "set": {"n": "1"}}]),
+    bad("node of both kinds", "nodes[0]", "exactly one of",
+        nodes=[{"id": "sense", "primitive": "sense", "behavior": "x"}, SENSE_GO[1]]),
+    bad("extra field", "nodes[0].colour", "Extra inputs are not permitted",
+        nodes=[{"id": "sense", "primitive": "sense", "colour": "red"}, SENSE_GO[1]]),
+    bad("bad identifier", "nodes[0].id", "should match pattern",
+        nodes=[{"id": "9lives", "primitive": "sense"}, SENSE_GO[1]]),
+    bad("wrong env", "env", "written for 'VLB-Scoop-v0'", env="VLB-Scoop-v0"),
+]
+
+
+@pytest.mark.parametrize("changes, place, message", BAD_DOCS)
+def test_bad_behavior_files_are_rejected_with_file_and_place(changes, place, message,
+                                                             grid_env, write_behavior):
+    path = write_behavior(explore_doc(**changes))
+    before = path.read_bytes()
+    with pytest.raises(BehaviorSpecError) as err:
+        load_behavior(str(path), grid_env)
+    text = str(err.value)
+    assert text.startswith(str(path)), text
+    assert f": {place}" in text, text
+    assert any(m in text for m in message.split("|")), text
+    assert path.read_bytes() == before  # nothing was changed
+
+
+def test_invalid_json_names_line_and_column(grid_env, write_behavior):
+    path = write_behavior('{"name": "x",\n  "nodes": [}', "broken.json")
+    with pytest.raises(BehaviorSpecError, match=r"broken\.json: line 2 column 13: invalid JSON"):
+        load_behavior(str(path), grid_env)
+
+
+def test_missing_file_and_unknown_name(grid_env):
+    with pytest.raises(BehaviorSpecError, match="cannot read behavior file"):
+        load_behavior("no/such/file.json", grid_env)
+    with pytest.raises(BehaviorSpecError, match="unknown behavior 'explore'.*shipped behaviors"):
+        load_behavior("explore", grid_env)
+
+
+def test_sub_behavior_cycle_is_rejected(grid_env, write_behavior):
+    write_behavior({"name": "a", "nodes": [{"id": "n", "behavior": "b.json"}],
+                    "start": {"node": "n"}, "terminals": ["n"]}, "a.json")
+    b = write_behavior({"name": "b", "nodes": [{"id": "n", "behavior": "a.json"}],
+                        "start": {"node": "n"}, "terminals": ["n"]}, "b.json")
+    with pytest.raises(BehaviorSpecError, match="sub-behavior cycle"):
+        load_behavior(str(b), grid_env)
+
+
+def test_sub_behavior_by_relative_path(grid_env, write_behavior):
+    write_behavior(explore_doc(name="mine"), "mine.json")
+    parent = write_behavior({"name": "outer", "nodes": [{"id": "e", "behavior": "mine.json"}],
+                             "start": {"node": "e"}, "terminals": ["e"]}, "outer.json")
+    policy = load_behavior(str(parent), grid_env)
+    _, summary = run(grid_env, policy, 0)
+    assert summary["rho_B"] == 1 and policy.trace[0] == ("mine", "sense")
+
+
+# -- run-time failures are the episode's, not exceptions out of the env ------------------------
+
+def test_stuck_in_non_terminal_node_raises_runtime_error(grid_env, write_behavior):
+    doc = explore_doc(edges=[{"from": "sense", "to": "go", "guard": "False", "param": "(0, 0)"},
+                             {"from": "go", "to": "sense", "param": "current_cell()"}],
+                      terminals=["go"])
+    policy = load_behavior(str(write_behavior(doc)), grid_env)
+    obs, _ = grid_env.reset(seed=0)
+    action, _ = policy.predict(obs)
+    obs, *_ = grid_env.step(action)
+    with pytest.raises(BehaviorRuntimeError, match="stuck at node 'sense'"):
+        policy.predict(obs)
+
+
+def test_expression_error_at_run_time_names_the_place(grid_env, write_behavior):
+    doc = explore_doc(edges=[{"from": "sense", "to": "go", "param": "explored()[99]"},
+                             {"from": "go", "to": "sense", "param": "current_cell()"}])
+    policy = load_behavior(str(write_behavior(doc)), grid_env)
+    obs, _ = grid_env.reset(seed=0)
+    obs, *_ = grid_env.step(policy.predict(obs)[0])
+    with pytest.raises(BehaviorRuntimeError, match=r"edges\[0\]\.param: IndexError"):
+        policy.predict(obs)
+
+
+def test_param_outside_the_space_is_a_runtime_error(grid_env, write_behavior):
+    doc = explore_doc(edges=[{"from": "sense", "to": "go", "param": "(12, 0)"},
+                             {"from": "go", "to": "sense", "param": "current_cell()"}])
+    policy = load_behavior(str(write_behavior(doc)), grid_env)
+    obs, _ = grid_env.reset(seed=0)
+    obs, *_ = grid_env.step(policy.predict(obs)[0])
+    with pytest.raises(BehaviorRuntimeError, match=r"not a cell of the 10x10 grid"):
+        policy.predict(obs)
+
+
+def test_helpers_read_only_the_observation(grid_env):
+    helpers = grid_env.unwrapped.make_helpers()
+    labels = np.full(100, UNEXPLORED)
+    labels[[11, 12]] = [0, GOAL]
+    helpers.bind({"labels": labels, "position": np.array([-3.5, -3.5])})
+    assert helpers.explored() == [(1, 1), (1, 2)]
+    assert helpers.goal_found() and helpers.goal_cell() == (1, 2)
+    assert helpers.current_cell() == cell_of(np.array([-3.5, -3.5]), 10) == (1, 1)
+    assert helpers.adjacent() == [(2, 1), (0, 1), (1, 2), (1, 0)]
+    assert helpers.adjacent((0, 0)) == [(1, 0), (0, 1)]
+    assert helpers.label((1, 2)) == "goal"
+    with pytest.raises(ValueError, match="not a cell of the 10x10 grid"):
+        helpers.label((10, 0))
+    with pytest.raises(ValueError, match="not a cell"):
+        helpers.adjacent("A1")
+    described = helpers.describe()
+    assert {name.split("(")[0] for name in described} == {
+        "explored", "adjacent", "goal_found", "goal_cell", "current_cell", "label"}
+    assert all(text for text in described.values())

@@ -1,0 +1,137 @@
+"""rho_B, episodes and campaigns: finished / unfinished / failed episodes, workers, replays."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from scipy.stats import beta, binom
+
+from vlb_gym import RobustnessWrapper, load_behavior
+from vlb_gym.core.robustness import behavior_robustness
+from vlb_gym.verify import CampaignConfig, episode_seed, iter_episodes, run_campaign, run_episode
+
+from .conftest import EXAMPLES
+
+REPORT_KEYS = {"env_id", "behavior", "episodes", "successes", "failures", "epsilon", "confidence",
+               "delta", "lower_bound", "seed", "sampling_distribution", "failed_episodes"}
+
+
+class Scripted:
+    """A policy that plays fixed actions, then finishes (None) or raises."""
+
+    def __init__(self, actions, then=None):
+        self.actions, self.then = actions, then
+
+    def reset(self):
+        self.left = list(self.actions)
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        if self.left:
+            action = self.left.pop(0)
+            return (action(obs) if callable(action) else np.asarray(action)), None
+        if self.then is not None:
+            raise self.then
+        return None, None
+
+
+def sense_here(obs):
+    return np.array([0, *np.floor(obs["position"] + 5).astype(int)])
+
+
+def test_robustness_function():
+    assert behavior_robustness(True, [True, True]) == 1
+    assert behavior_robustness(True, []) == 1
+    assert behavior_robustness(True, [True, False]) == -1
+    assert behavior_robustness(False, [True]) == -1
+
+
+def test_finished_episode_scores_plus_one(grid_env):
+    result = run_episode(grid_env, Scripted([sense_here]), seed=0)
+    assert (result.rho, result.finished, result.primitives, result.reason) == (1, True, 1, None)
+
+
+def test_failed_certificate_scores_minus_one(grid_env):
+    wrong = lambda obs: sense_here(obs) ^ np.array([0, 1, 0])  # a neighbouring cell  # noqa: E731
+    result = run_episode(grid_env, Scripted([sense_here, wrong, sense_here]), seed=0,
+                         stop_on_failure=False)
+    assert result.rho == -1 and result.finished and result.failed_certificates == 1
+    assert "step 2: sense" in result.reason and "not admissible" in result.reason
+    stopped = run_episode(grid_env, Scripted([sense_here, wrong, sense_here]), seed=0)
+    assert stopped.rho == -1 and stopped.primitives == 2 and not stopped.finished
+
+
+def test_unfinished_episode_is_truncated_to_minus_one():
+    env = RobustnessWrapper(gym.make("VLB-GridExplore-v0", max_episode_steps=3))
+    result = run_episode(env, Scripted([sense_here] * 10), seed=0)
+    assert result.rho == -1 and not result.finished and result.primitives == 3
+    assert "truncated" in result.reason
+
+
+def test_policy_exception_fails_the_episode_not_the_caller(grid_env):
+    result = run_episode(grid_env, Scripted([sense_here], then=KeyError("boom")), seed=0)
+    assert result.rho == -1 and "KeyError" in result.reason and "boom" in result.reason
+
+
+def test_wrapper_writes_rho_into_info_on_termination(grid_env):
+    env = RobustnessWrapper(gym.make("VLB-GridExplore-v0", max_episode_steps=2))
+    obs, _ = env.reset(seed=1)
+    _, _, _, truncated, info = env.step(sense_here(obs))
+    assert not truncated and "rho_B" not in info
+    _, _, _, truncated, info = env.step(sense_here(obs))
+    assert truncated and info["rho_B"] == -1 and info["primitives"] == 2
+    with pytest.raises(RuntimeError, match="episode has ended"):
+        env.step(sense_here(obs))
+
+
+def test_episode_seeds_are_spawned_children():
+    children = np.random.SeedSequence(7).spawn(5)
+    expected = [int(c.generate_state(1, dtype=np.uint64)[0]) for c in children]
+    assert [episode_seed(7, i) for i in range(5)] == expected
+    assert len({episode_seed(0, i) for i in range(5000)}) == 5000
+
+
+def test_results_do_not_depend_on_workers():
+    config = CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 24, seed=3,
+                            env_kwargs={"action_noise": 2.0})
+    one = sorted(iter_episodes(config, 1), key=lambda r: r.index)
+    two = sorted(iter_episodes(config, 2), key=lambda r: r.index)
+    strip = lambda r: {**r.to_dict(), "seconds": 0}  # noqa: E731
+    assert [strip(r) for r in one] == [strip(r) for r in two]
+    assert any(not r.success for r in one) and any(r.success for r in one)
+
+
+def test_paper_campaign_100_episodes():
+    report = run_campaign(CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 100,
+                                         epsilon=0.05))
+    assert REPORT_KEYS <= report.keys()
+    assert (report["successes"], report["failures"]) == (100, 0)
+    assert round(report["confidence"], 3) == 0.994
+    assert report["lower_bound"] == pytest.approx(0.05 ** (1 / 100))
+    assert "uniform over the allowable space" in report["sampling_distribution"]
+
+
+def test_wrong_behavior_gets_failure_tolerant_bound_and_replayable_seeds():
+    config = CampaignConfig("VLB-GridExplore-v0", str(EXAMPLES / "fixed_cell.json"), 60,
+                            epsilon=0.5, delta=0.1, seed=11)
+    report = run_campaign(config)
+    n, k = report["episodes"], report["failures"]
+    assert 0 < k < n
+    assert report["confidence"] == pytest.approx(1 - binom.cdf(k, n, 0.5))
+    assert report["lower_bound"] == pytest.approx(beta.ppf(0.1, n - k, k + 1))
+    assert len(report["failed_episodes"]) == k
+    env = RobustnessWrapper(gym.make("VLB-GridExplore-v0"))
+    policy = load_behavior(config.behavior, env)
+    for failed in report["failed_episodes"][:5]:
+        assert failed["seed"] == episode_seed(11, failed["index"])
+        replay = run_episode(env, policy, failed["seed"])
+        assert replay.rho == -1 and replay.reason == failed["reason"]
+        assert "(4, 4)" in replay.reason
+
+
+def test_campaign_config_rejects_bad_values():
+    for kwargs, word in [({"episodes": 0}, "episodes"), ({"epsilon": 1.0}, "epsilon"),
+                         ({"delta": 0}, "delta"), ({"seed": -1}, "seed")]:
+        base = dict(env_id="VLB-GridExplore-v0", behavior="explore_until_goal", episodes=5)
+        with pytest.raises(ValueError, match=word):
+            CampaignConfig(**{**base, **kwargs})
