@@ -90,31 +90,8 @@ class CompiledBehavior:
         return used
 
 
-def _fail(source: str, place: str, message: str) -> BehaviorSpecError:
-    return BehaviorSpecError(f"{source}: {place}: {message}")
-
-
-def _expr(text: str, names: Mapping[str, int | None], source: str, place: str,
-          args: tuple[str, ...] | None = None) -> Expression:
-    try:
-        return Expression(text, {**names, **{a: VALUE for a in args or ()}},
-                          f"{source}: {place}", args=args)
-    except ExpressionError as exc:
-        raise BehaviorSpecError(str(exc)) from None
-
-
-def _function_order(spec: BehaviorSpec, source: str) -> list[str]:
-    calls = nx.DiGraph()
-    calls.add_nodes_from(spec.functions)
-    for name, fn in spec.functions.items():
-        for other in spec.functions:
-            if other in _expr_names(fn.expr):
-                calls.add_edge(other, name)
-    try:
-        return list(nx.topological_sort(calls))
-    except nx.NetworkXUnfeasible:
-        cycle = " -> ".join(a for a, _ in nx.find_cycle(calls))
-        raise _fail(source, "functions", f"recursive functions are not allowed ({cycle})") from None
+def _fail(source: str, place: str, message: str, layer: str) -> BehaviorSpecError:
+    return BehaviorSpecError(f"{source}: {place}: {message}", layer)
 
 
 def _expr_names(text: str) -> set[str]:
@@ -124,98 +101,146 @@ def _expr_names(text: str) -> set[str]:
         return set()
 
 
-def compile_behavior(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
-                     resolve: Resolver, base_dir: Path | None = None,
-                     _chain: tuple[str, ...] = ()) -> CompiledBehavior:
-    """Check ``spec`` against ``interface`` and compile it; raise :class:`BehaviorSpecError`."""
-    chain = (*_chain, source)
-    helper_fns = interface.make_helpers().functions()
-    names: dict[str, int | None] = {n: None for n in BUILTINS}
-    names.update({n: arity(f) for n, f in helper_fns.items()})
-    for kind, declared in (("variables", spec.variables), ("functions", spec.functions)):
-        for name in declared:
-            if name in names:
-                raise _fail(source, f"{kind}.{name}", "name is already taken by a helper, a "
-                                                      "builtin or another declaration")
-            names[name] = VALUE if kind == "variables" else len(spec.functions[name].args)
-
-    functions = []
-    for name in _function_order(spec, source):
-        fn = spec.functions[name]
-        clash = [a for a in fn.args if a in names]
-        if clash or len(set(fn.args)) != len(fn.args):
-            raise _fail(source, f"functions.{name}.args", f"argument names must be new and "
-                                                          f"distinct ({', '.join(clash)})")
-        functions.append((name, _expr(fn.expr, names, source, f"functions.{name}.expr",
-                                      tuple(fn.args))))
-    variables = tuple((v, _expr(text, names, source, f"variables.{v}"))
-                      for v, text in spec.variables.items())
+def _check_references(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
+                      resolve: Resolver, base_dir: Path | None,
+                      chain: tuple[str, ...]) -> dict[str, _Node]:
+    """Layer 'references': ids unique; primitives, sub-behaviors, nodes, variables exist."""
+    def fail(place: str, message: str) -> BehaviorSpecError:
+        return _fail(source, place, message, "references")
 
     nodes: dict[str, _Node] = {}
     for i, node in enumerate(spec.nodes):
-        place = f"nodes[{i}]"
         if node.id in nodes:
-            raise _fail(source, f"{place}.id", f"duplicate node id {node.id!r}")
+            raise fail(f"nodes[{i}].id", f"duplicate node id {node.id!r}")
         child = None
         if node.primitive is not None and node.primitive not in interface.primitives:
             known = ", ".join(sorted(interface.primitives))
-            raise _fail(source, f"{place}.primitive",
-                        f"unknown primitive {node.primitive!r} (this environment has: {known})")
+            raise fail(f"nodes[{i}].primitive",
+                       f"unknown primitive {node.primitive!r} (this environment has: {known})")
         if node.behavior is not None:
             child_spec, child_source, child_dir = resolve(node.behavior, base_dir)
             if child_source in chain:
-                raise _fail(source, f"{place}.behavior", "sub-behavior cycle: "
-                            + " -> ".join((*chain, child_source)))
+                raise fail(f"nodes[{i}].behavior",
+                           "sub-behavior cycle: " + " -> ".join((*chain, child_source)))
             child = compile_behavior(child_spec, interface, child_source, resolve, child_dir, chain)
         nodes[node.id] = _Node(node.id, node.primitive, child)
 
-    def check_target(node_id: str, param: str | None, place: str) -> Expression | None:
+    def check_target(node_id: str, param: str | None, place: str, node_field: str) -> None:
         if node_id not in nodes:
-            raise _fail(source, place.rsplit(".", 1)[0] + (".to" if "edges" in place else ".node"),
-                        f"unknown node {node_id!r}")
-        if nodes[node_id].child is not None:
-            if param is not None:
-                raise _fail(source, place, f"node {node_id!r} is a sub-behavior and takes no param")
-            return None
-        if param is None:
-            raise _fail(source, place, f"node {node_id!r} runs primitive "
-                                       f"{nodes[node_id].primitive!r} and needs a param")
-        return _expr(param, names, source, place)
+            raise fail(node_field, f"unknown node {node_id!r}")
+        if nodes[node_id].child is not None and param is not None:
+            raise fail(place, f"node {node_id!r} is a sub-behavior and takes no param")
+        if nodes[node_id].child is None and param is None:
+            raise fail(place, f"node {node_id!r} runs primitive {nodes[node_id].primitive!r} "
+                              "and needs a param")
 
-    out_edges: dict[str, list[_Edge]] = {n: [] for n in nodes}
+    for i, edge in enumerate(spec.edges):
+        if edge.source not in nodes:
+            raise fail(f"edges[{i}].from", f"unknown node {edge.source!r}")
+        check_target(edge.to, edge.param, f"edges[{i}].param", f"edges[{i}].to")
+        for var in edge.set:
+            if var not in spec.variables:
+                raise fail(f"edges[{i}].set.{var}", f"{var!r} is not a declared variable")
+    check_target(spec.start.node, spec.start.param, "start.param", "start.node")
+    for i, terminal in enumerate(spec.terminals):
+        if terminal not in nodes:
+            raise fail(f"terminals[{i}]", f"unknown node {terminal!r}")
+    return nodes
+
+
+def _check_graph(spec: BehaviorSpec, nodes: dict[str, _Node], source: str) -> nx.MultiDiGraph:
+    """Layer 'graph': every node reachable from the start, a terminal reachable from every node."""
     graph = nx.MultiDiGraph(name=spec.name)
     for node in nodes.values():
         graph.add_node(node.id, primitive=node.primitive,
                        behavior=node.child.name if node.child else None)
     for i, edge in enumerate(spec.edges):
-        place = f"edges[{i}]"
-        if edge.source not in nodes:
-            raise _fail(source, f"{place}.from", f"unknown node {edge.source!r}")
-        param = check_target(edge.to, edge.param, f"{place}.param")
-        for var in edge.set:
-            if var not in spec.variables:
-                raise _fail(source, f"{place}.set.{var}", f"{var!r} is not a declared variable")
-        compiled = _Edge(edge.source, edge.to, _expr(edge.guard, names, source, f"{place}.guard"),
-                         param, tuple((v, _expr(t, names, source, f"{place}.set.{v}"))
-                                      for v, t in edge.set.items()))
-        out_edges[edge.source].append(compiled)
         graph.add_edge(edge.source, edge.to, guard=edge.guard, param=edge.param, order=i)
-    start_param = check_target(spec.start.node, spec.start.param, "start.param")
-    for i, terminal in enumerate(spec.terminals):
-        if terminal not in nodes:
-            raise _fail(source, f"terminals[{i}]", f"unknown node {terminal!r}")
-
     reachable = nx.descendants(graph, spec.start.node) | {spec.start.node}
     unreachable = [n for n in nodes if n not in reachable]
     if unreachable:
-        raise _fail(source, "nodes", f"not reachable from the start node: {', '.join(unreachable)}")
+        raise _fail(source, "nodes", f"not reachable from the start node: "
+                                     f"{', '.join(unreachable)}", "graph")
     finishing = set(spec.terminals).union(*(nx.ancestors(graph, t) for t in spec.terminals))
     stuck = [n for n in nodes if n not in finishing]
     if stuck:
-        raise _fail(source, "terminals", f"no terminal node is reachable from: {', '.join(stuck)}")
+        raise _fail(source, "terminals", f"no terminal node is reachable from: "
+                                         f"{', '.join(stuck)}", "graph")
+    return graph
+
+
+class _Expressions:
+    """Layer 'expressions': every expression checked against the whitelist and compiled."""
+
+    def __init__(self, spec: BehaviorSpec, interface: BehaviorInterface, source: str):
+        self.source = source
+        names: dict[str, int | None] = {n: None for n in BUILTINS}
+        names.update({n: arity(f) for n, f in interface.make_helpers().functions().items()})
+        for kind, declared in (("variables", spec.variables), ("functions", spec.functions)):
+            for name in declared:
+                if name in names:
+                    raise self.fail(f"{kind}.{name}", "name is already taken by a helper, a "
+                                                      "builtin or another declaration")
+                names[name] = VALUE if kind == "variables" else len(spec.functions[name].args)
+        self.names = names
+        functions = []
+        for name in self._function_order(spec):
+            fn = spec.functions[name]
+            clash = [a for a in fn.args if a in names]
+            if clash or len(set(fn.args)) != len(fn.args):
+                raise self.fail(f"functions.{name}.args",
+                                f"argument names must be new and distinct ({', '.join(clash)})")
+            functions.append((name, self(fn.expr, f"functions.{name}.expr", tuple(fn.args))))
+        self.functions = tuple(functions)
+        self.variables = tuple((v, self(text, f"variables.{v}"))
+                               for v, text in spec.variables.items())
+
+    def fail(self, place: str, message: str) -> BehaviorSpecError:
+        return _fail(self.source, place, message, "expressions")
+
+    def __call__(self, text: str | None, place: str,
+                 args: tuple[str, ...] | None = None) -> Expression | None:
+        if text is None:
+            return None
+        try:
+            return Expression(text, {**self.names, **{a: VALUE for a in args or ()}},
+                              f"{self.source}: {place}", args=args)
+        except ExpressionError as exc:
+            raise BehaviorSpecError(str(exc), "expressions") from None
+
+    def _function_order(self, spec: BehaviorSpec) -> list[str]:
+        calls = nx.DiGraph()
+        calls.add_nodes_from(spec.functions)
+        for name, fn in spec.functions.items():
+            calls.add_edges_from((other, name) for other in spec.functions
+                                 if other in _expr_names(fn.expr))
+        try:
+            return list(nx.topological_sort(calls))
+        except nx.NetworkXUnfeasible:
+            cycle = " -> ".join(a for a, _ in nx.find_cycle(calls))
+            raise self.fail("functions", f"recursive functions are not allowed ({cycle})") from None
+
+
+def compile_behavior(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
+                     resolve: Resolver, base_dir: Path | None = None,
+                     _chain: tuple[str, ...] = ()) -> CompiledBehavior:
+    """Check ``spec`` against ``interface`` and compile it.
+
+    Checks run in layers -- references, then the graph, then expressions -- and the first
+    problem raises :class:`BehaviorSpecError` naming the file, the place and the layer.
+    """
+    nodes = _check_references(spec, interface, source, resolve, base_dir, (*_chain, source))
+    graph = _check_graph(spec, nodes, source)
+    expr = _Expressions(spec, interface, source)
+    out_edges: dict[str, list[_Edge]] = {n: [] for n in nodes}
+    for i, edge in enumerate(spec.edges):
+        out_edges[edge.source].append(_Edge(
+            edge.source, edge.to, expr(edge.guard, f"edges[{i}].guard"),
+            expr(edge.param, f"edges[{i}].param"),
+            tuple((v, expr(t, f"edges[{i}].set.{v}")) for v, t in edge.set.items())))
     return CompiledBehavior(spec.name, source, spec, nodes, out_edges, spec.start.node,
-                            start_param, frozenset(spec.terminals), variables, tuple(functions),
-                            graph)
+                            expr(spec.start.param, "start.param"), frozenset(spec.terminals),
+                            expr.variables, expr.functions, graph)
 
 
 class _Frame:

@@ -31,8 +31,16 @@ ExpressionText = Annotated[str, StringConstraints(min_length=1, max_length=2000)
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schema" / "behavior.schema.json"
 
 
+#: Validation layers, in the order they run; BehaviorSpecError.layer names the one that failed.
+LAYERS = ("json", "schema", "references", "graph", "expressions", "dry-run")
+
+
 class BehaviorSpecError(ValueError):
-    """A behavior file is invalid; the message names the file and the place."""
+    """A behavior file is invalid; the message names the file and the place, ``layer`` the check."""
+
+    def __init__(self, message: str, layer: str = "references"):
+        super().__init__(message)
+        self.layer = layer
 
 
 class _Model(BaseModel):
@@ -107,7 +115,7 @@ def parse_spec(text: str | bytes, source: str = "<behavior>") -> BehaviorSpec:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise BehaviorSpecError(f"{source}: line {exc.lineno} column {exc.colno}: "
-                                f"invalid JSON: {exc.msg}") from None
+                                f"invalid JSON: {exc.msg}", "json") from None
     return spec_from_data(data, source)
 
 
@@ -117,7 +125,7 @@ def spec_from_data(data: Any, source: str = "<behavior>") -> BehaviorSpec:
         return BehaviorSpec.model_validate(data)
     except ValidationError as exc:
         lines = [f"{source}: {_place(err['loc'])}: {err['msg']}" for err in exc.errors()]
-        raise BehaviorSpecError("\n".join(lines)) from None
+        raise BehaviorSpecError("\n".join(lines), "schema") from None
 
 
 def json_schema() -> dict[str, Any]:

@@ -76,4 +76,5 @@ class GridHelpers(Helpers):
     @helper
     def label(self, cell: Cell) -> str:
         """The agent's label of ``cell``: 'empty', 'obstacle', 'unexplored' or 'goal'."""
-        return LABEL_NAMES[self._labels[self._index(cell, "label")]]
+        k = self._flat.get(cell) if type(cell) is tuple else None  # inlined fast path (hot)
+        return LABEL_NAMES[self._labels[self._index(cell, "label") if k is None else k]]
