@@ -14,6 +14,14 @@ from vlb_gym.wrappers import RobustnessWrapper
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
+@pytest.fixture(autouse=True)
+def user_library(tmp_path_factory, monkeypatch):
+    """Every test gets an empty user behavior library, never the real one."""
+    directory = tmp_path_factory.mktemp("library")
+    monkeypatch.setenv("VLB_BEHAVIOR_DIR", str(directory))
+    return directory
+
+
 @pytest.fixture
 def grid_env():
     env = RobustnessWrapper(gym.make("VLB-GridExplore-v0"))

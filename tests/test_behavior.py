@@ -207,7 +207,7 @@ def test_invalid_json_names_line_and_column(grid_env, write_behavior):
 def test_missing_file_and_unknown_name(grid_env):
     with pytest.raises(BehaviorSpecError, match="cannot read behavior file"):
         load_behavior("no/such/file.json", grid_env)
-    with pytest.raises(BehaviorSpecError, match="unknown behavior 'explore'.*shipped behaviors"):
+    with pytest.raises(BehaviorSpecError, match="unknown behavior .explore.: known behaviors are"):
         load_behavior("explore", grid_env)
 
 

@@ -4,16 +4,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
 
 import vlb_gym
-from vlb_gym.core.library import compile_for, shipped_behaviors
+from vlb_gym.core.library import BehaviorLibrary, compile_for, write_atomic
 from vlb_gym.core.spec import BehaviorSpecError, json_schema
 from vlb_gym.verify import bounds
 from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_campaign
@@ -69,13 +67,6 @@ def _check_env(env_id: str, kwargs: dict[str, Any]) -> None:
         raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {exc}") from None
 
 
-def _write_atomic(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", dir=path.parent, delete=False, suffix=".tmp") as tmp:
-        tmp.write(text)
-    os.replace(tmp.name, path)
-
-
 def cmd_verify(args: argparse.Namespace) -> int:
     kwargs = _env_kwargs(args.env_kwarg)
     _check_env(args.env_id, kwargs)
@@ -104,7 +95,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         if stream:
             stream.close()
     if args.report:
-        _write_atomic(Path(args.report), json.dumps(report, indent=2) + "\n")
+        write_atomic(Path(args.report), json.dumps(report, indent=2) + "\n")
     print(summary(report, args.report))
     return 0
 
@@ -166,7 +157,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 def cmd_behaviors(args: argparse.Namespace) -> int:
     if args.name is None:
-        for name in shipped_behaviors():
+        for name in BehaviorLibrary().names():
             print(name)
         return 0
     _check_env(args.env_id, {})

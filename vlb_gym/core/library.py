@@ -1,17 +1,33 @@
-"""Finding and loading behavior files: shipped ones by name, the user's by path."""
+"""The behavior library B: shipped behaviors, the user's saved ones, and files by path.
+
+Names resolve to a shipped behavior first, then to the user's library directory
+(``$VLB_BEHAVIOR_DIR``, else ``$XDG_DATA_HOME/vlb-gym/behaviors``, else
+``~/.local/share/vlb-gym/behaviors``); anything with a ``/`` or ending in ``.json`` is a path.
+"""
 
 from __future__ import annotations
 
+import json
+import os
+import tempfile
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
 
-from .behavior import BehaviorPolicy, compile_behavior, CompiledBehavior
+from .behavior import BehaviorPolicy, CompiledBehavior, compile_behavior
 from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
 
 SHIPPED = "vlb_gym.behaviors"
+
+
+def user_dir() -> Path:
+    """The user's behavior library directory (it need not exist yet)."""
+    if os.environ.get("VLB_BEHAVIOR_DIR"):
+        return Path(os.environ["VLB_BEHAVIOR_DIR"]).expanduser()
+    data = os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share"
+    return Path(data) / "vlb-gym" / "behaviors"
 
 
 def shipped_behaviors() -> list[str]:
@@ -24,35 +40,106 @@ def _is_path(ref: str) -> bool:
     return ref.endswith(".json") or "/" in ref or "\\" in ref
 
 
+def _read(path: Path) -> tuple[BehaviorSpec, str, Path]:
+    try:
+        text = path.read_bytes()
+    except OSError as exc:
+        raise BehaviorSpecError(f"{path}: cannot read behavior file: {exc.strerror}") from None
+    return parse_spec(text, str(path)), str(path.resolve()), path.resolve().parent
+
+
+class BehaviorLibrary:
+    """Named behaviors: the shipped ones plus those saved in ``directory``."""
+
+    def __init__(self, directory: Path | None = None):
+        self.directory = Path(directory) if directory is not None else user_dir()
+
+    def user_behaviors(self) -> list[str]:
+        if not self.directory.is_dir():
+            return []
+        return sorted(p.stem for p in self.directory.glob("*.json"))
+
+    def names(self) -> list[str]:
+        return sorted(set(shipped_behaviors()) | set(self.user_behaviors()))
+
+    def __contains__(self, name: str) -> bool:
+        return name in shipped_behaviors() or (self.directory / f"{name}.json").is_file()
+
+    def resolve(self, ref: str, base_dir: Path | None = None
+                ) -> tuple[BehaviorSpec, str, Path | None]:
+        """Load ``ref`` (a name or a path, relative to ``base_dir`` if given) as a spec."""
+        if _is_path(ref):
+            path = Path(ref).expanduser()
+            if not path.is_absolute() and base_dir is not None:
+                path = base_dir / path
+            return _read(path)
+        if ref in shipped_behaviors():
+            text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
+            return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
+        if (self.directory / f"{ref}.json").is_file():
+            return _read(self.directory / f"{ref}.json")
+        raise BehaviorSpecError(f"unknown behavior {ref!r}: known behaviors are "
+                                f"{', '.join(self.names())}; or give a path to a .json file")
+
+    def save(self, spec: BehaviorSpec, overwrite: bool = False) -> Path:
+        """Write ``spec`` as ``<directory>/<name>.json`` atomically; never over a shipped one."""
+        if spec.name in shipped_behaviors():
+            raise BehaviorSpecError(f"{spec.name!r} is a shipped behavior; choose another name")
+        path = self.directory / f"{spec.name}.json"
+        if path.exists() and not overwrite:
+            raise BehaviorSpecError(f"{path}: a behavior named {spec.name!r} exists already")
+        write_atomic(path, spec_json(spec))
+        return path
+
+    def describe(self) -> list[dict[str, Any]]:
+        """Name, environment and description of every behavior, for prompts and listings."""
+        out = []
+        for name in self.names():
+            spec = self.resolve(name)[0]
+            out.append({"name": name, "env": spec.env, "description": spec.description})
+        return out
+
+
+def spec_json(spec: BehaviorSpec) -> str:
+    """A behavior document as pretty JSON (aliases, no defaults)."""
+    data = spec.model_dump(by_alias=True, exclude_defaults=True)
+    return json.dumps(data, indent=2) + "\n"
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` so that readers see the old file or the whole new one."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", dir=path.parent, delete=False, suffix=".tmp") as tmp:
+        tmp.write(text)
+    os.replace(tmp.name, path)
+
+
 def resolve(ref: str, base_dir: Path | None = None) -> tuple[BehaviorSpec, str, Path | None]:
-    """Load ``ref`` (a shipped name or a path, relative to ``base_dir`` if given) as a spec."""
-    if _is_path(ref):
-        path = Path(ref).expanduser()
-        if not path.is_absolute() and base_dir is not None:
-            path = base_dir / path
-        try:
-            text = path.read_bytes()
-        except OSError as exc:
-            raise BehaviorSpecError(f"{path}: cannot read behavior file: {exc.strerror}") from None
-        return parse_spec(text, str(path)), str(path.resolve()), path.resolve().parent
-    if ref not in shipped_behaviors():
-        raise BehaviorSpecError(f"unknown behavior {ref!r}: shipped behaviors are "
-                                f"{', '.join(shipped_behaviors())}; or give a path to a .json file")
-    text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
-    return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
+    """Resolve ``ref`` in the default library (see the module docstring)."""
+    return BehaviorLibrary().resolve(ref, base_dir)
 
 
-def compile_for(ref: str, env: gym.Env) -> CompiledBehavior:
-    """Resolve ``ref`` and compile it against ``env`` (wrappers are looked through)."""
+def compile_spec(spec: BehaviorSpec, env: gym.Env, source: str, base_dir: Path | None = None,
+                 library: BehaviorLibrary | None = None) -> CompiledBehavior:
+    """Compile a spec against ``env`` (wrappers are looked through), checking its env id."""
     interface: Any = env.unwrapped
-    spec, source, base_dir = resolve(ref)
     env_id = getattr(interface, "env_id", None)
     if spec.env is not None and env_id is not None and spec.env != env_id:
         raise BehaviorSpecError(f"{source}: env: behavior is written for {spec.env!r}, "
                                 f"not {env_id!r}")
-    return compile_behavior(spec, interface, source, resolve, base_dir)
+    lookup = (library or BehaviorLibrary()).resolve
+    return compile_behavior(spec, interface, source, lookup, base_dir)
 
 
-def load_behavior(ref: str, env: gym.Env) -> BehaviorPolicy:
-    """A ready-to-run policy for behavior ``ref`` (shipped name or path) on ``env``."""
-    return BehaviorPolicy(compile_for(ref, env), env.unwrapped)
+def compile_for(ref: str, env: gym.Env, library: BehaviorLibrary | None = None
+                ) -> CompiledBehavior:
+    """Resolve ``ref`` and compile it against ``env``."""
+    library = library or BehaviorLibrary()
+    spec, source, base_dir = library.resolve(ref)
+    return compile_spec(spec, env, source, base_dir, library)
+
+
+def load_behavior(ref: str, env: gym.Env, library: BehaviorLibrary | None = None
+                  ) -> BehaviorPolicy:
+    """A ready-to-run policy for behavior ``ref`` (a name or a path) on ``env``."""
+    return BehaviorPolicy(compile_for(ref, env, library), env.unwrapped)
