@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -165,17 +166,89 @@ def cmd_behaviors(args: argparse.Namespace) -> int:
     if args.json:
         print(compiled.spec.model_dump_json(by_alias=True, indent=2, exclude_defaults=True))
         return 0
-    print(f"{compiled.name}: {compiled.spec.description}")
+    print(graph_text(compiled))
+    return 0
+
+
+def _backend(args: argparse.Namespace):
+    from vlb_gym.abstractor.backends import (OpenAICompatibleBackend, ScriptedBackend,
+                                             TranscriptBackend)
+    chosen = [flag for flag, value in (("--scripted", args.scripted),
+                                       ("--replay-transcript", args.replay_transcript),
+                                       ("--base-url", args.base_url)) if value]
+    if len(chosen) != 1:
+        raise UsageError("give exactly one language model: --base-url URL (with --model), "
+                         "--scripted FILE or --replay-transcript FILE"
+                         + (f" (got {', '.join(chosen)})" if chosen else ""))
+    if args.scripted:
+        return ScriptedBackend.from_file(args.scripted)
+    if args.replay_transcript:
+        return TranscriptBackend.from_file(args.replay_transcript)
+    if not args.model:
+        raise UsageError("--base-url needs --model NAME")
+    try:
+        return OpenAICompatibleBackend(args.base_url, args.model, args.api_key_env, args.timeout,
+                                       args.retries, structured_output=args.structured_output)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def cmd_synthesize(args: argparse.Namespace) -> int:
+    from vlb_gym.abstractor.backends import BackendError
+    from vlb_gym.abstractor.synthesize import SynthesisError, save, save_transcript, synthesize
+
+    _check_env(args.env_id, {})
+    backend = _backend(args)
+    library = BehaviorLibrary()
+    info = ""
+    if args.info:
+        try:
+            info = Path(args.info).read_text()
+        except OSError as exc:
+            raise UsageError(f"--info {args.info}: {exc.strerror}") from None
+    try:
+        result = synthesize(args.env_id, args.description, backend, library, info,
+                            tuple(args.uses), args.name, args.max_rounds)
+    except (SynthesisError, BackendError) as exc:
+        transcript = getattr(exc, "transcript", None)
+        if transcript is not None:
+            where = Path(args.out).with_suffix(".failed.transcript.json") if args.out else \
+                library.directory / f"failed-{int(time.time())}.transcript.json"
+            save_transcript(transcript, where)
+            print(f"vlb synthesize: error: {exc}\n  transcript: {where}", file=sys.stderr)
+        else:
+            print(f"vlb synthesize: error: {exc}", file=sys.stderr)
+        return 1
+    compiled = result.compiled
+    if result.from_library:
+        print(f"{compiled.name} is already in the behavior library ({compiled.source}); "
+              "nothing asked")
+        path = Path(compiled.source)
+    else:
+        path = save(result, library, Path(args.out) if args.out else None, args.force)
+        print(f"{compiled.name}: valid after {result.rounds} round(s) with {backend.name}")
+        print(f"  saved: {path}\n  transcript: {path.with_suffix('.transcript.json')}")
+    print(graph_text(compiled))
+    if args.verify:
+        config = CampaignConfig(args.env_id, str(path) if args.out else compiled.name,
+                                args.verify, args.epsilon, seed=args.seed)
+        print(summary(run_campaign(config)))
+    return 0
+
+
+def graph_text(compiled) -> str:
+    """The nodes and edges of a compiled behavior, one per line."""
+    lines = [f"{compiled.name}: {compiled.spec.description}"]
     for node in compiled.spec.nodes:
         kind = f"primitive {node.primitive}" if node.primitive else f"behavior {node.behavior}"
         tags = (" [start]" if node.id == compiled.start_node else "") + \
                (" [terminal]" if node.id in compiled.terminals else "")
-        print(f"  node {node.id}: {kind}{tags}")
+        lines.append(f"  node {node.id}: {kind}{tags}")
     for edge in compiled.spec.edges:
-        print(f"  edge {edge.source} -> {edge.to}: if {edge.guard}"
-              + (f", param {edge.param}" if edge.param else "")
-              + "".join(f", {k} := {v}" for k, v in edge.set.items()))
-    return 0
+        lines.append(f"  edge {edge.source} -> {edge.to}: if {edge.guard}"
+                     + (f", param {edge.param}" if edge.param else "")
+                     + "".join(f", {k} := {v}" for k, v in edge.set.items()))
+    return "\n".join(lines)
 
 
 def cmd_schema(args: argparse.Namespace) -> int:
@@ -247,6 +320,43 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument("--env", dest="env_id", default="VLB-GridExplore-v0")
     b.add_argument("--json", action="store_true", help="print the behavior file")
     b.set_defaults(func=cmd_behaviors)
+
+    y = sub.add_parser("synthesize", help="compose a behavior from a description with an LLM",
+                       description="Algorithm 1 of the paper: ask a language model for a behavior "
+                       "graph over the environment's primitives, validate it (JSON, schema, "
+                       "references, graph, expressions, dry run), feed errors back for repair, and "
+                       "add the valid behavior to the library (or --out). A transcript of prompts, "
+                       "replies and errors is saved beside the result.")
+    y.add_argument("env_id", metavar="ENV_ID")
+    y.add_argument("description", metavar="DESCRIPTION", help="the desired behavior, in words")
+    y.add_argument("--info", metavar="FILE", help="extra information for the model (the "
+                   "paper's string I)")
+    y.add_argument("--uses", nargs="+", default=[], metavar="BEHAVIOR",
+                   help="existing behaviors the new one should build on")
+    y.add_argument("--name", help="name of the new behavior; if the library has it already, it "
+                   "is used and the model is not asked")
+    y.add_argument("--out", metavar="FILE", help="write here instead of the user library")
+    y.add_argument("--force", action="store_true", help="replace an existing file")
+    y.add_argument("--max-rounds", type=_count(1), default=3,
+                   help="replies to try, repairs included (default 3)")
+    y.add_argument("--base-url", help="OpenAI-compatible server, e.g. https://api.openai.com/v1 "
+                   "or http://127.0.0.1:11434/v1 (Ollama)")
+    y.add_argument("--model", help="model name at that server")
+    y.add_argument("--api-key-env", default="OPENAI_API_KEY",
+                   help="environment variable holding the API key (default OPENAI_API_KEY)")
+    y.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
+                   default="json_schema", help="what the server supports (default json_schema)")
+    y.add_argument("--timeout", type=float, default=60.0, help="seconds per request")
+    y.add_argument("--retries", type=_count(0), default=3, help="retries per request")
+    y.add_argument("--scripted", metavar="FILE",
+                   help="canned replies (a JSON list) instead of a live model")
+    y.add_argument("--replay-transcript", metavar="FILE",
+                   help="replay the replies of an earlier synthesize transcript")
+    y.add_argument("--verify", type=_count(1), metavar="N",
+                   help="then verify the result with N episodes")
+    y.add_argument("--epsilon", type=_probability, default=0.05, help="for --verify")
+    y.add_argument("--seed", type=_count(0), default=0, help="for --verify")
+    y.set_defaults(func=cmd_synthesize)
 
     s = sub.add_parser("schema", help="print the JSON Schema of behavior files")
     s.set_defaults(func=cmd_schema)

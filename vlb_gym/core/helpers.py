@@ -48,5 +48,6 @@ class Helpers(abc.ABC):
         out = {}
         for name, fn in self.functions().items():
             doc = inspect.getdoc(fn) or ""
-            out[f"{name}{inspect.signature(fn)}"] = doc.split("\n\n")[0]
+            signature = str(inspect.signature(fn)).replace("'", "")
+            out[f"{name}{signature}"] = " ".join(doc.split("\n\n")[0].split())
         return out

@@ -57,7 +57,8 @@ class BehaviorLibrary:
     def user_behaviors(self) -> list[str]:
         if not self.directory.is_dir():
             return []
-        return sorted(p.stem for p in self.directory.glob("*.json"))
+        # behavior names are identifiers; NAME.transcript.json and the like are not behaviors
+        return sorted(p.stem for p in self.directory.glob("*.json") if "." not in p.stem)
 
     def names(self) -> list[str]:
         return sorted(set(shipped_behaviors()) | set(self.user_behaviors()))

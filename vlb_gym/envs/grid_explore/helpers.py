@@ -17,7 +17,12 @@ Cell = tuple[int, int]
 
 
 class GridHelpers(Helpers):
-    """Helpers for ``VLB-GridExplore-v0`` observations."""
+    """Helpers for ``VLB-GridExplore-v0`` observations.
+
+    A Cell is a tuple (i, j) of ints with 0 <= i, j < size (10 by default); i indexes x, j indexes
+    y, and (i + 1, j) is the cell to the right of (i, j). Lists of cells are in flat-index order
+    i * size + j. Primitive parameters are cells.
+    """
 
     def __init__(self, size: int):
         self.size = size

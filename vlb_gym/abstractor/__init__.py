@@ -1,0 +1,1 @@
+"""The natural-language behavior generalizer (the paper's Algorithm 1)."""

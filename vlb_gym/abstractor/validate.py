@@ -1,0 +1,71 @@
+"""Layered validation of a model's reply, before anything is added to the library.
+
+Layers, in order, each failing with a :class:`BehaviorSpecError` whose ``layer`` names it and whose
+message is fed back to the model: ``json`` (the reply parses), ``schema`` (it is a behavior
+document), ``references`` (ids unique; primitives, sub-behaviors, nodes, variables exist; the name
+is free), ``graph`` (every node reachable from the start, a terminal from every node),
+``expressions`` (whitelisted syntax and names only), ``dry-run`` (a few sampled episodes run
+without a run-time error, each chosen parameter inside its primitive's space).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import gymnasium as gym
+
+from vlb_gym.core.behavior import BehaviorPolicy, BehaviorRuntimeError, CompiledBehavior
+from vlb_gym.core.library import BehaviorLibrary, compile_spec
+from vlb_gym.core.spec import BehaviorSpec, BehaviorSpecError, parse_spec
+
+_FENCE = re.compile(r"^```(?:json)?\s*\n(.*)\n```$", re.DOTALL)
+DRY_RUN_SEEDS = (0, 1, 2)
+DRY_RUN_STEPS = 60
+
+
+def parse_reply(reply: str, source: str) -> BehaviorSpec:
+    """Layers json and schema; a single Markdown code fence around the document is tolerated."""
+    text = reply.strip()
+    fenced = _FENCE.match(text)
+    return parse_spec(fenced.group(1) if fenced else text, source)
+
+
+def dry_run(compiled: CompiledBehavior, env: gym.Env, seeds=DRY_RUN_SEEDS,
+            steps: int = DRY_RUN_STEPS) -> None:
+    """Layer dry-run: run a few episodes for a bounded number of primitives."""
+    policy = BehaviorPolicy(compiled, env.unwrapped)
+    for seed in seeds:
+        obs, _ = env.reset(seed=seed)
+        policy.reset()
+        for step in range(1, steps + 1):
+            try:
+                action, _ = policy.predict(obs)
+            except BehaviorRuntimeError as exc:
+                raise BehaviorSpecError(f"dry run from reset seed {seed}, before primitive "
+                                        f"{step}: {exc}", "dry-run") from None
+            if action is None:
+                break
+            obs, _, terminated, truncated, _ = env.step(action)
+            if terminated or truncated:
+                break
+
+
+def validate_reply(reply: str, env: gym.Env, library: BehaviorLibrary, name: str | None = None,
+                   source: str = "reply") -> CompiledBehavior:
+    """All layers; ``name`` (if given) replaces the reply's own name. Returns the compiled
+    behavior; raises :class:`BehaviorSpecError` at the first failing layer."""
+    spec = parse_reply(reply, source)
+    if name is not None:
+        spec = spec.model_copy(update={"name": name})
+    elif spec.name in library:
+        raise BehaviorSpecError(f"{source}: name: {spec.name!r} is already in the behavior "
+                                "library; choose a new name", "references")
+    compiled = compile_spec(spec, env, source, None, library)
+    dry_run(compiled, env)
+    return compiled
+
+
+def canonical(spec: BehaviorSpec) -> str:
+    """A stable text form of a spec, for comparisons."""
+    return json.dumps(spec.model_dump(by_alias=True, exclude_defaults=True), sort_keys=True)
