@@ -214,3 +214,13 @@ def test_min_episodes_increases_with_failures():
 def test_bad_inputs_raise_value_error(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_counts_accept_numpy_integers_and_refuse_booleans():
+    import numpy as np
+
+    assert confidence(np.int64(100), np.int64(0), 0.05) == pytest.approx(0.99408, abs=1e-5)
+    with pytest.raises(ValueError, match="episodes"):
+        confidence(True, 0, 0.5)
+    with pytest.raises(ValueError, match="failures"):
+        lower_bound(10, False, 0.05)

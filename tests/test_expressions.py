@@ -318,11 +318,21 @@ def test_comprehension_source_limit(source):
         run(source, names, values)
 
 
-def test_comprehension_over_unbounded_iterator_is_stopped():
+def _long_iterator():
+    """An iterator far longer than MAX_SEQUENCE that fails loudly if fully consumed."""
+    for i in itertools.count():
+        if i > 5 * MAX_SEQUENCE:
+            raise AssertionError("comprehension source was not bounded")
+        yield i
+
+
+@pytest.mark.parametrize("source", ["any(v < 0 for v in forever())",
+                                    "[v for v in forever()]"])
+def test_comprehension_over_long_iterator_is_stopped(source):
     names = {**NAMES, "forever": 0}
-    values = {**VALUES, "forever": lambda: itertools.count()}
+    values = {**VALUES, "forever": _long_iterator}
     with pytest.raises(ValueError, match="comprehension source exceeds"):
-        run("any(v < 0 for v in forever())", names, values)
+        run(source, names, values)
 
 
 def test_comprehension_source_at_limit_is_allowed():
@@ -377,3 +387,33 @@ def test_evaluation_has_no_builtins_even_if_name_declared():
     with pytest.raises(NameError):
         expr.evaluate(guard_namespace({"xs": [1]}))
     assert expr.evaluate(guard_namespace({"xs": [1], "len": len})) == 1
+
+
+# -- hardening found in review: numpy counts, total comprehension work, list sums --------------
+
+def _evaluate(source, **values):
+    import numpy as np  # noqa: F401 - values may hold numpy scalars
+    names = {**{k: None for k in BUILTINS},
+             **{k: (-1 if not callable(v) else None) for k, v in values.items()}}
+    return Expression(source, names, "review").evaluate(guard_namespace({**BUILTINS, **values}))
+
+
+def test_repetition_limit_applies_to_numpy_integers():
+    import numpy as np
+    with pytest.raises(ValueError, match="sequence repetition"):
+        _evaluate("[0] * n", n=np.int64(10**6))
+
+
+def test_nested_comprehensions_have_a_total_item_budget():
+    big = [[0] * 10_000 for _ in range(30)]
+    with pytest.raises(ValueError, match="more than 200000 items in all"):
+        _evaluate("len([y for x in big for y in x])", big=big)
+    assert _evaluate("len([y for x in big for y in x])", big=big[:10]) == 100_000
+
+
+def test_sum_adds_numbers_only():
+    with pytest.raises(ValueError, match="adds numbers only"):
+        _evaluate("sum(big, [])", big=[[1], [2]])
+    with pytest.raises(ValueError, match="adds numbers only"):
+        _evaluate("sum(big)", big=[[1], [2]])
+    assert _evaluate("sum([1, 2.5])") == 3.5

@@ -19,6 +19,7 @@ A checked expression is compiled once and evaluated with empty ``__builtins__``.
 from __future__ import annotations
 
 import ast
+import numbers
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
@@ -26,6 +27,7 @@ MAX_SOURCE_CHARS = 2000
 MAX_NODES = 400
 MAX_GENERATORS = 3
 MAX_SEQUENCE = 10_000
+MAX_ITEMS = 200_000  # comprehension items per top-level evaluation, all loops together
 MAX_INT = 10**9
 MAX_STR = 200
 
@@ -58,38 +60,65 @@ def _argmin(values: Iterable[Any]) -> int:
     return values.index(min(values))
 
 
-#: Pure, bounded builtins every expression may call.
-BUILTINS: dict[str, Callable[..., Any]] = {
-    "len": len, "min": min, "max": max, "sum": sum, "any": any, "all": all, "abs": abs,
-    "round": round, "int": int, "float": float, "bool": bool, "sorted": sorted,
-    "argmax": _argmax, "argmin": _argmin,
-}
 
 
-def _bounded(iterable: Iterable[Any]) -> list[Any]:
-    """Materialise a comprehension source, refusing anything longer than MAX_SEQUENCE."""
-    if type(iterable) is list and len(iterable) <= MAX_SEQUENCE:  # the common case, no copy
-        return iterable
-    if isinstance(iterable, (list, tuple, str, range)) and len(iterable) > MAX_SEQUENCE:
-        raise ValueError(f"comprehension over {len(iterable)} items exceeds {MAX_SEQUENCE}")
-    items = []
-    for item in iterable:
-        items.append(item)
-        if len(items) > MAX_SEQUENCE:
-            raise ValueError(f"comprehension source exceeds {MAX_SEQUENCE} items")
-    return items
+def _sum(values: Iterable[Any], start: Any = 0) -> Any:
+    """``sum`` of numbers only (adding lists with ``sum`` is quadratic and unbounded)."""
+    if not isinstance(start, numbers.Number):
+        raise ValueError("sum() adds numbers only")
+    total = start
+    for value in values:
+        if not isinstance(value, numbers.Number):
+            raise ValueError(f"sum() adds numbers only, got {type(value).__name__}")
+        total += value
+    return total
+
+
+class _Budget:
+    """Counts comprehension items over one top-level evaluation, all nested loops together."""
+
+    __slots__ = ("left",)
+
+    def __init__(self) -> None:
+        self.left = MAX_ITEMS
+
+    def bounded(self, iterable: Iterable[Any]) -> list[Any]:
+        """Materialise a comprehension source, refusing anything longer than MAX_SEQUENCE and
+        any evaluation that iterates more than MAX_ITEMS items in all."""
+        if type(iterable) is list and len(iterable) <= MAX_SEQUENCE:  # the common case, no copy
+            items = iterable
+        else:
+            if isinstance(iterable, (list, tuple, str, range)) and len(iterable) > MAX_SEQUENCE:
+                raise ValueError(f"comprehension over {len(iterable)} items exceeds "
+                                 f"{MAX_SEQUENCE}")
+            items = []
+            for item in iterable:
+                items.append(item)
+                if len(items) > MAX_SEQUENCE:
+                    raise ValueError(f"comprehension source exceeds {MAX_SEQUENCE} items")
+        self.left -= len(items)
+        if self.left < 0:
+            raise ValueError(f"expression iterates over more than {MAX_ITEMS} items in all")
+        return items
 
 
 def _mul(left: Any, right: Any) -> Any:
     """``left * right`` that refuses to build sequences longer than MAX_SEQUENCE."""
     for seq, times in ((left, right), (right, left)):
-        if isinstance(seq, (list, tuple, str)) and isinstance(times, int):
-            if len(seq) * times > MAX_SEQUENCE:
+        if isinstance(seq, (list, tuple, str)) and isinstance(times, numbers.Integral):
+            if len(seq) * int(times) > MAX_SEQUENCE:
                 raise ValueError(f"sequence repetition would exceed {MAX_SEQUENCE} items")
     return left * right
 
 
-_GUARDS = {"__bounded": _bounded, "__mul": _mul}
+
+
+#: Pure, bounded builtins every expression may call.
+BUILTINS: dict[str, Callable[..., Any]] = {
+    "len": len, "min": min, "max": max, "any": any, "all": all, "abs": abs,
+    "round": round, "int": int, "float": float, "bool": bool, "sorted": sorted, "sum": _sum,
+    "argmax": _argmax, "argmin": _argmin,
+}
 
 
 class _Checker(ast.NodeVisitor):
@@ -221,7 +250,9 @@ class Expression:
 
     def evaluate(self, namespace: dict[str, Any]) -> Any:
         """Evaluate in ``namespace`` (made by :func:`guard_namespace`); a function expression
-        evaluates to a Python function whose globals are ``namespace``."""
+        evaluates to a Python function whose globals are ``namespace``. Each call starts a new
+        item budget; functions called from it share that budget."""
+        namespace["__budget"].left = MAX_ITEMS
         return eval(self.code, namespace)  # noqa: S307 - checked against the whitelist above
 
     def __repr__(self) -> str:
@@ -230,7 +261,8 @@ class Expression:
 
 def guard_namespace(values: Mapping[str, Any]) -> dict[str, Any]:
     """A globals dict for :meth:`Expression.evaluate`: no builtins, the guards, and ``values``."""
-    namespace: dict[str, Any] = {"__builtins__": {}}
-    namespace.update(_GUARDS)
+    budget = _Budget()
+    namespace: dict[str, Any] = {"__builtins__": {}, "__budget": budget,
+                                 "__bounded": budget.bounded, "__mul": _mul}
     namespace.update(values)
     return namespace

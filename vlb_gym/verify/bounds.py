@@ -16,14 +16,19 @@ valid certificate.
 from __future__ import annotations
 
 import math
+import numbers
 
 from scipy.stats import beta, binom
 
 
+def _integer(value: object) -> bool:
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
 def _check(n: int, k: int) -> None:
-    if not isinstance(n, int) or n < 1:
+    if not _integer(n) or n < 1:
         raise ValueError(f"the number of episodes must be a positive integer (got {n!r})")
-    if not isinstance(k, int) or not 0 <= k <= n:
+    if not _integer(k) or not 0 <= k <= n:
         raise ValueError(f"failures must be an integer in [0, {n}] (got {k!r})")
 
 
@@ -37,7 +42,7 @@ def confidence(n: int, k: int, epsilon: float) -> float:
     _check(n, k)
     _check_probability("epsilon", epsilon)
     if k == 0:
-        return -math.expm1(n * math.log1p(-epsilon))
+        return -math.expm1(int(n) * math.log1p(-epsilon))
     return float(binom.sf(k, n, epsilon))
 
 
@@ -56,7 +61,7 @@ def min_episodes(epsilon: float, target_confidence: float, failures: int = 0) ->
     """Least N such that N episodes with ``failures`` failures give ``target_confidence``."""
     _check_probability("epsilon", epsilon)
     _check_probability("confidence", target_confidence)
-    if not isinstance(failures, int) or failures < 0:
+    if not _integer(failures) or failures < 0:
         raise ValueError(f"failures must be a non-negative integer (got {failures!r})")
     if failures == 0:
         n = math.ceil(math.log1p(-target_confidence) / math.log1p(-epsilon))

@@ -1,0 +1,62 @@
+"""The MuJoCo scene: the MJCF asset plus a bed of spherical grains, compiled with MjSpec."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from functools import lru_cache
+from importlib import resources
+
+if "MUJOCO_GL" not in os.environ:  # headless by default; must be set before mujoco is imported
+    os.environ["MUJOCO_GL"] = "egl"
+
+import mujoco  # noqa: E402
+import numpy as np  # noqa: E402
+
+ASSET = "ur5e_scoop.xml"
+GRAIN_RADIUS = 0.006  # m
+GRAIN_DENSITY = 2500.0  # kg/m^3, quartz sand
+GRAIN_MASS = GRAIN_DENSITY * 4 / 3 * np.pi * GRAIN_RADIUS**3  # ~2.26 g
+ARM_JOINTS = ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3")
+
+# container interiors (half sizes) and wall heights, as in the asset
+DONOR_HALF, DONOR_WALL = 0.06, 0.065  # inner half width, wall top height (m)
+RECEIVER_HALF, RECEIVER_WALL = 0.04, 0.06
+DONOR_OUTER, RECEIVER_OUTER = 0.07, 0.05  # outer half widths
+FLOOR = 0.01
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A compiled model with ``n_grains`` grains and the indices the env needs."""
+
+    model: mujoco.MjModel
+    n_grains: int
+    arm_qpos: np.ndarray  # qpos addresses of the six arm joints
+    arm_dof: np.ndarray  # dof addresses of the six arm joints
+    grain_qpos: np.ndarray  # (n_grains, 7) qpos addresses of the grains' free joints
+    grain_dof: np.ndarray  # (n_grains, 6) dof addresses
+    donor_mocap: int
+    receiver_mocap: int
+
+
+@lru_cache(maxsize=4)
+def build_scene(n_grains: int) -> Scene:
+    """Compile the asset with ``n_grains`` free spheres (placed later, from a settled snapshot)."""
+    xml = (resources.files("vlb_gym.assets") / ASSET).read_text()
+    spec = mujoco.MjSpec.from_string(xml)
+    for k in range(n_grains):
+        body = spec.worldbody.add_body(name=f"grain{k}", pos=[2.0 + 0.02 * k, 2.0, 0.1])
+        body.add_freejoint()
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[GRAIN_RADIUS, 0, 0],
+                      mass=GRAIN_MASS, rgba=[0.86, 0.74, 0.5, 1], contype=1, conaffinity=1,
+                      condim=3, friction=[0.9, 0.005, 0.0001])
+    model = spec.compile()
+    arm_qpos = np.array([model.joint(j).qposadr[0] for j in ARM_JOINTS])
+    arm_dof = np.array([model.joint(j).dofadr[0] for j in ARM_JOINTS])
+    grain_qpos = np.array([model.joint(model.body(f"grain{k}").jntadr[0]).qposadr[0]
+                           for k in range(n_grains)]).reshape(-1, 1) + np.arange(7)
+    grain_dof = np.array([model.joint(model.body(f"grain{k}").jntadr[0]).dofadr[0]
+                          for k in range(n_grains)]).reshape(-1, 1) + np.arange(6)
+    return Scene(model, n_grains, arm_qpos, arm_dof, grain_qpos, grain_dof,
+                 int(model.body("donor").mocapid[0]), int(model.body("receiver").mocapid[0]))
