@@ -106,7 +106,7 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
     lines = [
         f"{report['env_id']} / {report['behavior']}: {report['episodes']} episodes "
         f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
-        f"{report['episodes_per_second']:.0f} episodes/s)",
+        f"{report['episodes_per_second']:.3g} episodes/s)",
         f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
         f"  P[success] >= {1 - report['epsilon']:g} with confidence {report['confidence']:.5f}",
         f"  P[success] >= {report['lower_bound']:.5f} at confidence level "

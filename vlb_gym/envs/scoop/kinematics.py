@@ -90,3 +90,11 @@ def smoothstep(n: int) -> np.ndarray:
     """``n`` fractions from 0 (excluded) to 1 with zero velocity at both ends."""
     s = np.arange(1, n + 1) / n
     return s * s * (3 - 2 * s)
+
+
+def matrix_rpy(rot: np.ndarray) -> np.ndarray:
+    """(roll, pitch, yaw) with ``rpy_matrix(*rpy) == rot`` (pitch in [-pi/2, pi/2])."""
+    pitch = -np.arcsin(np.clip(rot[2, 0], -1.0, 1.0))
+    roll = np.arctan2(rot[2, 1], rot[2, 2])
+    yaw = np.arctan2(rot[1, 0], rot[0, 0])
+    return np.array([roll, pitch, yaw])

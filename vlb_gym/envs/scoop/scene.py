@@ -2,16 +2,12 @@
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 
-if "MUJOCO_GL" not in os.environ:  # headless by default; must be set before mujoco is imported
-    os.environ["MUJOCO_GL"] = "egl"
-
-import mujoco  # noqa: E402
-import numpy as np  # noqa: E402
+import mujoco
+import numpy as np
 
 ASSET = "ur5e_scoop.xml"
 GRAIN_RADIUS = 0.006  # m

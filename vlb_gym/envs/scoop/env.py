@@ -1,0 +1,208 @@
+"""``VLB-Scoop-v0``: a UR5e-like arm scoops granular media in MuJoCo (the paper's Sec. V-B)."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+from gymnasium import spaces
+
+from vlb_gym.core.primitive import MotionPrimitive, execute
+
+from . import piles
+from .generator import place, sample_environment
+from .helpers import ScoopHelpers
+from .kinematics import Kinematics, matrix_rpy, rpy_matrix
+from .primitives import Scoop
+from .scene import GRAIN_MASS, build_scene
+from .types import ScoopState
+
+DEFAULT_SENSING_POSE = (0.5, 0.075, 0.55, np.pi, -0.35, np.pi / 2)
+FOLDED = np.array([0.0, -1.9, 1.9, -1.57, -1.57, 0.0])
+
+
+@lru_cache(maxsize=1)
+def home_configuration() -> np.ndarray:
+    """Joint angles of the default sensing pose: where every episode starts."""
+    kin = Kinematics(build_scene(piles.GRAIN_COUNTS[0]), "flange")
+    pose = np.array(DEFAULT_SENSING_POSE)
+    return kin.solve(pose[:3], rpy_matrix(*pose[3:]), FOLDED)
+
+
+class ScoopEnv(gym.Env):
+    """A 6-DOF arm with a wrist depth camera scoops sand from a donor into a receiver.
+
+    ## Description
+    MuJoCo scene (``vlb_gym/assets/ur5e_scoop.xml``): a table, an arm with the UR5e's DH
+    kinematics and link masses, position-controlled joints (150 N m limits on the three large
+    joints, 28 N m on the wrists) with gravity compensation, a scoop on the flange, a wrist depth
+    camera, a donor container (inner 12 x 12 cm) holding 230-290 spherical grains of 6 mm radius
+    (2.26 g each) and an empty receiver (inner 8 x 8 cm). Physics: 4 ms steps, CG solver capped at
+    30 iterations, elliptic friction cones.
+
+    One primitive, ``scoop`` (P^r): move to the sensing pose, render a depth image from the wrist
+    camera, locate both containers in it (no simulator ground truth), then scoop, lift, transfer,
+    dump and return to the sensing pose, all executed by the simulated arm.
+
+    ## Action Space
+    ``Box(6,)`` float32: the sensing pose (x, y, z, roll, pitch, yaw) of the flange in the robot
+    base frame, metres and radians (extrinsic x-y-z angles). Outside the box: ``ValueError``.
+
+    ## Observation Space
+    ``Box(6,)`` float64: the flange pose in the same coordinates.
+
+    ## Rewards
+    The delivered mass in kilograms (a task-aligned default; rho_B does not use it).
+
+    ## Starting State
+    The arm rests at the default sensing pose; d is drawn from pi: container positions around
+    set-points (donor (0.5, -0.2), receiver (0.5, 0.2)) with independent truncated Gaussian noise
+    (``placement_noise`` m, ``yaw_noise_deg``), a sand level (230, 260 or 290 grains) and a pile
+    style (flat, tilted, heaped), each uniform; the pile starts from a shipped settled snapshot.
+
+    ## Episode End
+    Never terminates by itself (the behavior decides); truncated after 20 primitives.
+
+    ## Info
+    ``primitive``, ``param``, ``admissible``, ``certificate`` (and ``reason``), ``certificates``
+    (``pose``: the flange ended within 1 cm and 3 deg of the sensing pose; ``delivered``: at least
+    ``delivered_threshold_g`` grams reached the receiver), ``mass_scooped``, ``mass_delivered``,
+    ``mass_spilled`` (grams), ``perceived`` (container estimates from the depth image) and
+    ``sim_seconds``.
+
+    ## Arguments
+    ``render_mode`` (``"rgb_array"``: the overview camera; ``"depth_array"``: the wrist camera),
+    ``placement_noise=0.02``, ``yaw_noise_deg=8``, ``grain_counts=(230, 260, 290)``,
+    ``delivered_threshold_g=10``, ``width=480``, ``height=480`` (rgb frames).
+    """
+
+    metadata = {"render_modes": ["rgb_array", "depth_array"], "render_fps": 25}
+    env_id = "VLB-Scoop-v0"
+
+    def __init__(self, render_mode: str | None = None, placement_noise: float = 0.02,
+                 yaw_noise_deg: float = 8.0, grain_counts: tuple[int, ...] = piles.GRAIN_COUNTS,
+                 delivered_threshold_g: float = 10.0, width: int = 480, height: int = 480):
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode={render_mode!r} is not supported; "
+                             f"use one of {self.metadata['render_modes']} or None")
+        if placement_noise < 0 or yaw_noise_deg < 0:
+            raise ValueError("placement_noise and yaw_noise_deg must be >= 0")
+        if not grain_counts or min(grain_counts) < 1:
+            raise ValueError(f"grain_counts must be positive counts (got {grain_counts})")
+        self.render_mode = render_mode
+        self.placement_noise, self.yaw_noise_deg = placement_noise, yaw_noise_deg
+        self.grain_counts = tuple(int(n) for n in grain_counts)
+        self.width, self.height = width, height
+        self.scoop = Scoop(delivered_threshold_g)
+        self.primitives: dict[str, MotionPrimitive[ScoopState]] = {"scoop": self.scoop}
+        self.action_space = self.scoop.param_space
+        self.observation_space = spaces.Box(np.array([-2, -2, -1, -np.pi, -np.pi, -np.pi]),
+                                            np.array([2, 2, 2, np.pi, np.pi, np.pi]),
+                                            dtype=np.float64)
+        self._state: ScoopState | None = None
+        self._data: dict[int, mujoco.MjData] = {}
+        self._renderers: dict[tuple[int, str], mujoco.Renderer] = {}
+        self.frames: list[np.ndarray] | None = None
+
+    # -- the behavior interface -------------------------------------------------------------
+    def make_helpers(self) -> ScoopHelpers:
+        return ScoopHelpers()
+
+    def encode_action(self, primitive: str, param: Any) -> np.ndarray:
+        if primitive != "scoop":
+            raise ValueError(f"unknown primitive {primitive!r}")
+        try:
+            action = np.asarray(param, dtype=np.float32).reshape(6)
+        except (TypeError, ValueError):
+            raise ValueError(f"scoop parameter {param!r} is not a pose (x, y, z, roll, pitch, "
+                             "yaw)") from None
+        if not self.action_space.contains(action):
+            raise ValueError(f"scoop parameter {param!r} is outside the pose box "
+                             f"{self.action_space}")
+        return action
+
+    # -- gymnasium API ---------------------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        env = sample_environment(self.np_random, self.grain_counts, self.placement_noise,
+                                 self.yaw_noise_deg)
+        scene = build_scene(env.n_grains)
+        data = self._data.setdefault(env.n_grains, mujoco.MjData(scene.model))
+        place(scene, data, env, home_configuration())
+        self._state = ScoopState(scene, data, env)
+        return self._observation(), {"environment": {
+            "donor": env.donor.round(4).tolist(), "receiver": env.receiver.round(4).tolist(),
+            "grains": env.n_grains, "pile": env.pile_style}}
+
+    def step(self, action: Any):
+        if self._state is None:
+            raise RuntimeError("call reset() before step()")
+        pose = np.asarray(action)
+        if pose.shape != (6,) or pose.dtype.kind not in "fi" or not self.action_space.contains(
+                pose.astype(np.float32)):
+            raise ValueError(f"action {action!r} is not in the action space {self.action_space}: "
+                             "expected a sensing pose (x, y, z, roll, pitch, yaw)")
+        state = self._state
+        if self.frames is not None:
+            state.on_frame = lambda: self.frames.append(self.render())
+            state.frame_every = max(1, round(1 / (self.metadata["render_fps"]
+                                                 * state.scene.model.opt.timestep)))
+        started = state.data.time
+        outcome = execute(self.scoop, state, tuple(float(v) for v in pose), self.np_random)
+        info = outcome.as_info()
+        if not outcome.admissible:
+            info["reason"] = state.last["inadmissible"]
+        violations = state.last.get("violations")
+        info["certificates"] = {"pose": violations is not None and "pose" not in violations,
+                                "delivered": violations is not None
+                                and "delivered" not in violations}
+        if violations:
+            info["reason"] = "; ".join(violations.values())
+        for key in ("mass_scooped", "mass_delivered", "mass_spilled", "perceived"):
+            if key in state.last:
+                info[key] = state.last[key]
+        info["sim_seconds"] = round(state.data.time - started, 3)
+        reward = info.get("mass_delivered", 0.0) / 1000.0
+        return self._observation(), reward, False, False, info
+
+    def render(self) -> np.ndarray | None:
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode")
+            return None
+        if self._state is None:
+            raise RuntimeError("call reset() before render()")
+        if self.render_mode == "depth_array":
+            return self.scoop.camera(self._state).depth(self._state.data)
+        key = (id(self._state.scene), "rgb")
+        if key not in self._renderers:
+            self._renderers[key] = mujoco.Renderer(self._state.scene.model, self.height,
+                                                   self.width)
+        renderer = self._renderers[key]
+        renderer.update_scene(self._state.data, camera="overview")
+        return renderer.render().copy()
+
+    def close(self) -> None:
+        for renderer in self._renderers.values():
+            renderer.close()
+        self._renderers.clear()
+        self.scoop.close()
+
+    def sampling_distribution(self) -> str:
+        return (f"pi: donor and receiver placed around (0.5, -0.2) and (0.5, 0.2) m with "
+                f"independent Gaussian noise (sigma {self.placement_noise:g} m in x and y, "
+                f"{self.yaw_noise_deg:g} deg in yaw, truncated at 2.5 sigma), sand level uniform "
+                f"over {list(self.grain_counts)} grains of {GRAIN_MASS * 1000:.2f} g, pile flat, "
+                "tilted or heaped (uniform); arm starting at the default sensing pose")
+
+    @property
+    def state(self) -> ScoopState:
+        if self._state is None:
+            raise RuntimeError("call reset() first")
+        return self._state
+
+    def _observation(self) -> np.ndarray:
+        pos, rot = self._state.flange_pose
+        return np.concatenate([pos, matrix_rpy(rot)])

@@ -1,0 +1,34 @@
+"""Decision helpers of the scooping env: read the end-effector pose from the observation."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from vlb_gym.core.helpers import Helpers, helper
+
+Pose = tuple[float, float, float, float, float, float]
+
+
+class ScoopHelpers(Helpers):
+    """Helpers for ``VLB-Scoop-v0`` observations.
+
+    A Pose is a tuple (x, y, z, roll, pitch, yaw) of the flange in the robot base frame: metres and
+    radians (extrinsic x-y-z angles). The scoop primitive's parameter is a sensing Pose.
+    """
+
+    def __init__(self) -> None:
+        self._pose: Pose = (0.0,) * 6
+
+    def bind(self, observation: Any) -> None:
+        self._pose = tuple(float(v) for v in observation)
+
+    @helper
+    def current_pose(self) -> Pose:
+        """The flange pose now."""
+        return self._pose
+
+    @helper
+    def offset(self, pose: Pose, dx: float, dy: float, dz: float) -> Pose:
+        """``pose`` moved by (dx, dy, dz) metres in the base frame, orientation unchanged."""
+        x, y, z, roll, pitch, yaw = pose
+        return (x + dx, y + dy, z + dz, roll, pitch, yaw)
