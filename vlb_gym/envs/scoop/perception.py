@@ -3,8 +3,9 @@
 Pipeline: depth pixels -> points in the camera frame (pinhole model from the camera's field of
 view) -> world frame (the robot knows its camera pose from its joint angles) -> points above the
 table rasterised on a grid -> holes filled, connected regions labelled -> the two largest regions
-are the containers, told apart by area -> each one's centre and yaw from the smallest enclosing
-rectangle over candidate angles; the donor's bed height from the points inside it.
+are the containers, told apart by area -> each one's centre and yaw from the smallest rectangle
+enclosing its rim (the points near its top height), over candidate angles; the donor's bed
+height from the points inside it.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ CELL = 0.004  # m, raster resolution
 MIN_HEIGHT = 0.02  # m above the table: container walls and grains, not floors or the table
 MAX_HEIGHT = 0.12  # m: anything higher is the robot itself
 NEAR_CLIP = 0.12  # m: closer points are the robot's own tool
+RIM = 0.008  # m below a container's top height that still counts as its rim
 AREA_SPLIT = 0.015  # m^2: donor (outer 0.14 x 0.14) above, receiver (0.10 x 0.10) below
 
 
@@ -75,9 +77,9 @@ def locate_containers(points: np.ndarray) -> Estimate:
     above = points[(points[:, 2] > MIN_HEIGHT) & (points[:, 2] < MAX_HEIGHT)]
     if len(above) < 50:
         raise PerceptionFailure("no container in view")
-    origin = above[:, :2].min(axis=0)
+    origin = above[:, :2].min(axis=0) - 4 * CELL  # a margin, so closing does not erode edges
     idx = np.floor((above[:, :2] - origin) / CELL).astype(int)
-    grid = np.zeros(idx.max(axis=0) + 1, dtype=bool)
+    grid = np.zeros(idx.max(axis=0) + 5, dtype=bool)
     grid[idx[:, 0], idx[:, 1]] = True
     grid = ndimage.binary_closing(grid, iterations=2)
     grid = ndimage.binary_fill_holes(grid)
@@ -88,11 +90,12 @@ def locate_containers(points: np.ndarray) -> Estimate:
     order = np.argsort(areas)[::-1][:2]
     found = []
     for label in order + 1:
-        cells = np.argwhere(labels == label)
-        corners = np.concatenate([cells, cells + [0, 1], cells + [1, 0], cells + 1]) * CELL
-        center, yaw, area = _rectangle(corners + origin)
-        member = labels[idx[:, 0], idx[:, 1]] == label
-        found.append(Container(center, yaw, area, float(np.percentile(above[member, 2], 95))))
+        member = above[labels[idx[:, 0], idx[:, 1]] == label]
+        top = float(np.percentile(member[:, 2], 95))
+        rim = member[member[:, 2] > top - RIM]  # the walls' top faces outline the container
+        center, yaw, _ = _rectangle(rim[:, :2])
+        area = float(np.sum(labels == label)) * CELL**2
+        found.append(Container(center, yaw, area, top))
     big, small = sorted(found, key=lambda c: -c.area)
     if big.area < AREA_SPLIT or small.area > AREA_SPLIT:
         raise PerceptionFailure(f"container footprints {big.area:.4f} and {small.area:.4f} m^2 "

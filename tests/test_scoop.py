@@ -1,0 +1,162 @@
+"""VLB-Scoop-v0 at small scale: kinematics against the DH table, piles at rest, perception from a
+rendered depth image, admissibility, and a real scoop moving mass."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import vlb_gym  # noqa: F401 - registers the envs
+from vlb_gym import RobustnessWrapper, load_behavior
+from vlb_gym.envs.scoop import ScoopEnv
+from vlb_gym.envs.scoop.controller import DepthCamera, grains_in_box, grains_in_scoop
+from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
+from vlb_gym.envs.scoop.kinematics import Kinematics, matrix_rpy, rpy_matrix
+from vlb_gym.envs.scoop.perception import locate_containers
+from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
+                                      RECEIVER_WALL, build_scene)
+from vlb_gym.verify import run_episode
+
+POSE = np.array(DEFAULT_SENSING_POSE, dtype=np.float32)
+DH_A = [0, -0.425, -0.3922, 0, 0, 0]
+DH_D = [0.1625, 0, 0, 0.1333, 0.0997, 0.0996]
+DH_ALPHA = [np.pi / 2, 0, 0, np.pi / 2, -np.pi / 2, 0]
+
+
+def dh_flange(q: np.ndarray) -> np.ndarray:
+    """Independent forward kinematics from the published UR5e DH table (base frame)."""
+    transform = np.eye(4)
+    for theta, a, d, alpha in zip(q, DH_A, DH_D, DH_ALPHA):
+        ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
+        transform = transform @ np.array([[ct, -st * ca, st * sa, a * ct],
+                                          [st, ct * ca, -ct * sa, a * st],
+                                          [0, sa, ca, d], [0, 0, 0, 1]])
+    return transform
+
+
+@pytest.fixture(scope="module")
+def env():
+    env = ScoopEnv()
+    yield env
+    env.close()
+
+
+def test_arm_matches_the_ur5e_dh_table_and_masses():
+    scene = build_scene(10)
+    kin = Kinematics(scene, "flange")
+    base = np.diag([-1.0, -1.0, 1.0])  # the base is mounted turned by 180 degrees about z
+    rng = np.random.default_rng(0)
+    for q in [np.zeros(6), *rng.uniform(-np.pi, np.pi, (10, 6))]:
+        pos, rot = kin.forward(q)
+        expected = dh_flange(q)
+        assert np.allclose(pos, base @ expected[:3, 3], atol=1e-6)
+        assert np.allclose(rot, base @ expected[:3, :3], atol=1e-6)
+    masses = [scene.model.body(b).mass[0] for b in ("shoulder_link", "upper_arm_link",
+              "forearm_link", "wrist_1_link", "wrist_2_link", "wrist_3_link")]
+    assert np.allclose(masses, [3.761, 8.058, 2.846, 1.37, 1.3, 0.365])
+    limits = scene.model.actuator_forcerange[:, 1]
+    assert np.allclose(limits, [150, 150, 150, 28, 28, 28])
+
+
+def test_inverse_kinematics_round_trip():
+    kin = Kinematics(build_scene(10), "flange")
+    target = rpy_matrix(*POSE[3:])
+    q = kin.solve(POSE[:3].astype(float), target, np.array([0, -1.9, 1.9, -1.57, -1.57, 0]))
+    pos, rot = kin.forward(q)
+    assert np.linalg.norm(pos - POSE[:3]) < 1e-3
+    assert np.allclose(matrix_rpy(rot), POSE[3:], atol=1e-2)
+
+
+def test_grains_stay_in_the_donor_at_rest(env):
+    for seed in range(3):
+        env.reset(seed=seed)
+        state = env.state
+        for _ in range(250):  # one second with the arm holding still
+            import mujoco
+            mujoco.mj_step(state.scene.model, state.data)
+        grains = state.data.qpos[state.scene.grain_qpos[:, :3]]
+        assert grains_in_box(grains, state.env.donor, DONOR_HALF, DONOR_WALL).all()
+        assert np.abs(state.data.qvel[state.scene.grain_dof[:, :3]]).max() < 0.05
+
+
+def test_perception_locates_containers_from_a_depth_image(env):
+    for seed in range(6):
+        env.reset(seed=seed)
+        state = env.state
+        kin = Kinematics(state.scene, "flange")
+        q = kin.solve(POSE[:3].astype(float), rpy_matrix(*POSE[3:]),
+                      state.data.qpos[state.scene.arm_qpos])
+        state.data.qpos[state.scene.arm_qpos] = q
+        import mujoco
+        mujoco.mj_forward(state.scene.model, state.data)
+        camera = DepthCamera(state.scene)
+        estimate = locate_containers(camera.points(state.data))
+        camera.close()
+        for seen, truth in ((estimate.donor, state.env.donor),
+                            (estimate.receiver, state.env.receiver)):
+            assert np.linalg.norm(seen.center - truth[:2]) < 0.005  # stated error: 5 mm
+            yaw_error = (seen.yaw - truth[2] + np.pi / 4) % (np.pi / 2) - np.pi / 4
+            assert abs(yaw_error) < np.radians(2)  # and 2 degrees (squares: modulo 90)
+
+
+def test_a_scoop_moves_mass_from_donor_to_receiver(env):
+    obs, info = env.reset(seed=3)
+    state = env.state
+    total = state.env.n_grains
+    obs, reward, terminated, truncated, info = env.step(POSE)
+    assert info["admissible"] and info["certificate"], info
+    assert info["certificates"] == {"pose": True, "delivered": True}
+    assert info["mass_delivered"] >= 10 and reward == pytest.approx(info["mass_delivered"] / 1000)
+    grains = state.data.qpos[state.scene.grain_qpos[:, :3]]
+    delivered = grains_in_box(grains, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
+    kept = grains_in_box(grains, state.env.donor, DONOR_HALF, DONOR_WALL)
+    scoop = grains_in_scoop(grains, state.data, state.scene.model.site("scoop").id)
+    assert delivered.sum() * GRAIN_MASS * 1000 == pytest.approx(info["mass_delivered"])
+    assert delivered.sum() + kept.sum() + scoop.sum() + round(
+        info["mass_spilled"] / (GRAIN_MASS * 1000)) == total
+    assert np.allclose(obs[:3], POSE[:3], atol=0.01)
+    assert info["sim_seconds"] > 5  # the motion was simulated, not teleported
+
+
+def test_scoop_is_deterministic_for_a_seed():
+    a, b = ScoopEnv(), ScoopEnv()
+    a.reset(seed=11)
+    b.reset(seed=11)
+    out_a, out_b = a.step(POSE), b.step(POSE)
+    assert np.array_equal(out_a[0], out_b[0])
+    assert out_a[4]["mass_delivered"] == out_b[4]["mass_delivered"]
+    a.close()
+    b.close()
+
+
+@pytest.mark.parametrize("pose, reason", [
+    ((0.5, 0.075, 0.55, np.pi, -0.35, 0.0), "not fully in the camera's view"),
+    ((0.95, 0.9, 1.1, np.pi, 0.0, 0.0), "not reachable"),
+])
+def test_bad_sensing_poses_fail_admissibility_not_the_env(pose, reason, env):
+    env.reset(seed=0)
+    obs, reward, terminated, truncated, info = env.step(np.array(pose, dtype=np.float32))
+    assert not info["admissible"] and not info["certificate"]
+    assert reason in info["reason"]
+
+
+def test_out_of_view_behavior_is_reported_with_failures(write_behavior):
+    doc = {"name": "looks_away", "env": "VLB-Scoop-v0",
+           "nodes": [{"id": "scoop", "primitive": "scoop"}],
+           "start": {"node": "scoop", "param": "(0.5, 0.075, 0.55, 3.14159, -0.35, 0.0)"},
+           "terminals": ["scoop"]}
+    env = RobustnessWrapper(gym.make("VLB-Scoop-v0"))
+    policy = load_behavior(str(write_behavior(doc)), env)
+    result = run_episode(env, policy, seed=0)
+    assert result.rho == -1 and "camera's view" in result.reason
+    env.close()
+
+
+def test_depth_rendering():
+    env = gym.make("VLB-Scoop-v0", render_mode="depth_array")
+    env.reset(seed=0)
+    depth = env.render()
+    assert depth.dtype == np.float32 and depth.ndim == 2
+    assert 0.3 < np.median(depth) < 0.7  # the table, about half a metre below the camera
+    env.close()
