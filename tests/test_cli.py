@@ -116,3 +116,14 @@ def test_schema_command_prints_the_schema(capsys):
     assert main(["schema"]) == 0
     schema = json.loads(capsys.readouterr().out)
     assert {"nodes", "edges", "start", "terminals"} <= schema["properties"].keys()
+
+
+def test_render_writes_an_animation(tmp_path, capsys):
+    from PIL import Image
+
+    out = tmp_path / "episode.gif"
+    assert main(["render", "VLB-GridExplore-v0", "--behavior", "explore_until_goal",
+                 "--seed", "2", "--out", str(out), "--fps", "4"]) == 0
+    assert "rho_B = +1" in capsys.readouterr().out
+    with Image.open(out) as image:
+        assert image.size == (320, 320) and image.n_frames > 3

@@ -10,9 +10,11 @@ from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
+import numpy as np
 
 import vlb_gym
-from vlb_gym.core.library import BehaviorLibrary, compile_for, write_atomic
+from vlb_gym.core.library import BehaviorLibrary, compile_for, load_behavior, write_atomic
+from vlb_gym.wrappers import RobustnessWrapper
 from vlb_gym.core.spec import BehaviorSpecError, json_schema
 from vlb_gym.verify import bounds
 from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_campaign
@@ -153,6 +155,45 @@ def cmd_replay(args: argparse.Namespace) -> int:
         print(f"{number:4d} {mark} {info['primitive']:<10} {info['param']}{extra}")
     print(f"rho_B = {result.rho:+d}, finished={result.finished}, primitives={result.primitives}"
           + (f", reason: {result.reason}" if result.reason else ""))
+    return 0
+
+
+def cmd_render(args: argparse.Namespace) -> int:
+    from PIL import Image
+
+    kwargs = _env_kwargs(args.env_kwarg)
+    _check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"})
+    env = RobustnessWrapper(gym.make(args.env_id, render_mode="rgb_array", **kwargs))
+    policy = load_behavior(args.behavior, env)
+    recorder = env.unwrapped
+    continuous = hasattr(recorder, "frames")  # envs that film their primitives as they run
+    obs, _ = env.reset(seed=args.seed)
+    policy.reset()
+    frames = [env.render()]
+    if continuous:
+        recorder.frames = frames
+    while env.summary is None:
+        action, _ = policy.predict(obs)
+        if action is None:
+            env.end(finished=True)
+            break
+        obs, _, _, _, info = env.step(action)
+        if not continuous:
+            frames.append(env.render())
+        print(f"{len(env.history):4d} {'ok  ' if info['certificate'] else 'FAIL'} "
+              f"{info['primitive']} {np.round(np.asarray(info['param'], dtype=float), 3).tolist()}")
+    if continuous:
+        recorder.frames = None
+        stride = max(1, round(env.metadata["render_fps"] / args.fps))
+        frames = frames[::stride]
+    frames.append(env.render())
+    images = [Image.fromarray(frame) for frame in frames]
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / args.fps),
+                   loop=0)
+    print(f"rho_B = {env.summary['rho_B']:+d}; wrote {len(images)} frames to {out}")
+    env.close()
     return 0
 
 
@@ -312,6 +353,18 @@ def parser() -> argparse.ArgumentParser:
                    help="continue after the first failed certificate")
     env_kwarg(r)
     r.set_defaults(func=cmd_replay)
+
+    w = sub.add_parser("render", help="write one episode of a behavior as an animated GIF",
+                       description="Run one episode (reset seed --seed) and write what the "
+                       "environment's rgb_array rendering shows as a GIF; environments that film "
+                       "their primitives (VLB-Scoop-v0) give the whole motion.")
+    w.add_argument("env_id", metavar="ENV_ID")
+    w.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
+    w.add_argument("--seed", type=_count(0), default=0)
+    w.add_argument("--out", required=True, metavar="FILE.gif")
+    w.add_argument("--fps", type=_count(1), default=10)
+    env_kwarg(w)
+    w.set_defaults(func=cmd_render)
 
     b = sub.add_parser("behaviors", help="list shipped behaviors, or show one",
                        description="Without NAME, list the shipped behaviors; with NAME (or a "

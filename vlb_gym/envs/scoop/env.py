@@ -153,6 +153,7 @@ class ScoopEnv(gym.Env):
         started = state.data.time
         outcome = execute(self.scoop, state, tuple(float(v) for v in pose), self.np_random)
         info = outcome.as_info()
+        info["param"] = tuple(round(v, 4) for v in info["param"])  # float32 digits are noise
         if not outcome.admissible:
             info["reason"] = state.last["inadmissible"]
         violations = state.last.get("violations")
