@@ -13,6 +13,7 @@ import gymnasium as gym
 import numpy as np
 
 import vlb_gym
+from vlb_gym.abstractor.backends import BackendError
 from vlb_gym.core.library import BehaviorLibrary, compile_for, load_behavior, write_atomic
 from vlb_gym.wrappers import RobustnessWrapper
 from vlb_gym.core.spec import BehaviorSpecError, json_schema
@@ -235,7 +236,6 @@ def _backend(args: argparse.Namespace):
 
 
 def cmd_synthesize(args: argparse.Namespace) -> int:
-    from vlb_gym.abstractor.backends import BackendError
     from vlb_gym.abstractor.synthesize import SynthesisError, save, save_transcript, synthesize
 
     _check_env(args.env_id, {})
@@ -274,6 +274,49 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
         config = CampaignConfig(args.env_id, str(path) if args.out else compiled.name,
                                 args.verify, args.epsilon, seed=args.seed)
         print(summary(run_campaign(config)))
+    return 0
+
+
+def cmd_scoop_setup(args: argparse.Namespace) -> int:
+    from vlb_gym.abstractor.scoop_setup import ScoopSetup, SetupError, transcript_json
+
+    backend = _backend(args) if (args.base_url or args.scripted) else None
+    env = gym.make("VLB-Scoop-v0").unwrapped
+    env.reset(seed=args.seed)
+    session = ScoopSetup(env, Path(args.images), backend)
+    library = BehaviorLibrary()
+    if backend is None:
+        print("No language model configured: type commands -- translate DX DY DZ (m, base "
+              "frame: x forward, y left, z up), rotate DROLL DPITCH DYAW (degrees), save, quit.")
+    else:
+        print(f"Say how to move the end-effector ({backend.name}); 'quit' to stop.")
+    print(session.view())
+    while True:
+        if sys.stdin.isatty():
+            print("> ", end="", flush=True)
+        line = sys.stdin.readline()
+        if not line or line.strip().lower() in ("quit", "exit", "q"):
+            break
+        if not line.strip():
+            continue
+        try:
+            for message in session.request(line.strip()):
+                print(message)
+        except (SetupError, BackendError) as exc:
+            print(f"error: {exc}")
+    env.close()
+    if backend is not None:
+        write_atomic(Path(args.images) / "transcript.json", transcript_json(session) + "\n")
+    if session.saved is None:
+        print("no pose saved; nothing written")
+        return 1
+    try:
+        path = session.save_behavior(library, args.name, args.force)
+    except SetupError as exc:
+        print(f"vlb scoop-setup: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"wrote {path}\nverify it: vlb verify VLB-Scoop-v0 --behavior {args.name} "
+          "--episodes 59 --epsilon 0.05 --workers 2")
     return 0
 
 
@@ -410,6 +453,27 @@ def parser() -> argparse.ArgumentParser:
     y.add_argument("--epsilon", type=_probability, default=0.05, help="for --verify")
     y.add_argument("--seed", type=_count(0), default=0, help="for --verify")
     y.set_defaults(func=cmd_synthesize)
+
+    z = sub.add_parser("scoop-setup", help="choose the scooping sensing pose in words",
+                       description="Move the scoop arm's end-effector by saying how (an LLM turns "
+                       "each request into translate / rotate / save helper calls) or, without a "
+                       "model, by typing those commands; each move writes the wrist camera's "
+                       "view to an image. The saved pose becomes the sensing pose of a copy of "
+                       "scoop_repeatedly in the behavior library. Reads requests from stdin.")
+    z.add_argument("--name", default="my_scoop", help="name of the behavior to write")
+    z.add_argument("--images", default="scoop_setup", metavar="DIR",
+                   help="where the camera views go (default ./scoop_setup)")
+    z.add_argument("--seed", type=_count(0), default=0, help="which container placement to show")
+    z.add_argument("--force", action="store_true", help="replace a behavior of that name")
+    z.add_argument("--base-url")
+    z.add_argument("--model")
+    z.add_argument("--api-key-env", default="OPENAI_API_KEY")
+    z.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
+                   default="json_schema")
+    z.add_argument("--timeout", type=float, default=60.0)
+    z.add_argument("--retries", type=_count(0), default=3)
+    z.add_argument("--scripted", metavar="FILE", help="canned model replies (a JSON list)")
+    z.set_defaults(func=cmd_scoop_setup, replay_transcript=None)
 
     s = sub.add_parser("schema", help="print the JSON Schema of behavior files")
     s.set_defaults(func=cmd_schema)

@@ -191,6 +191,31 @@ class ScoopEnv(gym.Env):
         self._renderers.clear()
         self.scoop.close()
 
+    # -- interactive set-up (vlb scoop-setup) ----------------------------------------------------
+    def move_to(self, pose: np.ndarray, seconds: float = 1.0) -> str | None:
+        """Drive the flange to ``pose`` through the simulated arm; the reason if unreachable."""
+        from .kinematics import IKFailure
+        from .motion import ArmDriver
+
+        state = self.state
+        driver = ArmDriver(state.scene, state.data)
+        try:
+            q = driver.flange.solve(np.asarray(pose[:3], float), rpy_matrix(*pose[3:]), driver.q)
+        except IKFailure as exc:
+            return str(exc)
+        driver.move_joints(q, seconds)
+        driver.settle(0.2)
+        return None
+
+    def wrist_image(self) -> np.ndarray:
+        """What the wrist camera sees now, as RGB."""
+        key = (id(self.state.scene), "wrist")
+        if key not in self._renderers:
+            self._renderers[key] = mujoco.Renderer(self.state.scene.model, 240, 320)
+        renderer = self._renderers[key]
+        renderer.update_scene(self.state.data, camera="wrist")
+        return renderer.render().copy()
+
     def sampling_distribution(self) -> str:
         return (f"pi: donor and receiver placed around (0.5, -0.2) and (0.5, 0.2) m with "
                 f"independent Gaussian noise (sigma {self.placement_noise:g} m in x and y, "
