@@ -14,23 +14,15 @@ from vlb_gym.core.behavior import BehaviorRuntimeError
 from vlb_gym.core.library import compile_for
 from vlb_gym.core.spec import SCHEMA_PATH, json_schema
 from vlb_gym.envs.grid_explore.types import GOAL, UNEXPLORED, cell_of
+from vlb_gym.verify import run_episode
 
 from .conftest import explore_doc
 
 
 def run(env, policy, seed):
-    """Run one episode of ``policy``; return the list of step infos and the wrapper's summary."""
-    obs, _ = env.reset(seed=seed)
-    policy.reset()
-    infos = []
-    while env.summary is None:
-        action, _ = policy.predict(obs)
-        if action is None:
-            env.end(finished=True)
-            break
-        obs, _, _, _, info = env.step(action)
-        infos.append(info)
-    return infos, env.summary
+    """Run one whole episode of ``policy``; return the step infos and the wrapper's summary."""
+    run_episode(env, policy, seed, stop_on_failure=False)
+    return env.history, env.summary
 
 
 def test_shipped_behaviors_and_schema_file():

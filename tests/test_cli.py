@@ -105,7 +105,8 @@ def test_plan(eps, conf, k, capsys):
 
 def test_behaviors_listing_and_graph(capsys):
     assert main(["behaviors"]) == 0
-    assert capsys.readouterr().out.split() == ["explore_until_goal", "find_goal_and_oscillate"]
+    assert capsys.readouterr().out.split() == ["explore_until_goal", "find_goal_and_oscillate",
+                                               "scoop_repeatedly"]
     assert main(["behaviors", "find_goal_and_oscillate"]) == 0
     out = capsys.readouterr().out
     assert "node explore: behavior explore_until_goal [start]" in out

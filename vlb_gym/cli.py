@@ -168,21 +168,19 @@ def cmd_render(args: argparse.Namespace) -> int:
     policy = load_behavior(args.behavior, env)
     recorder = env.unwrapped
     continuous = hasattr(recorder, "frames")  # envs that film their primitives as they run
-    obs, _ = env.reset(seed=args.seed)
-    policy.reset()
-    frames = [env.render()]
+    frames: list[np.ndarray] = []
     if continuous:
         recorder.frames = frames
-    while env.summary is None:
-        action, _ = policy.predict(obs)
-        if action is None:
-            env.end(finished=True)
-            break
-        obs, _, _, _, info = env.step(action)
+
+    def on_step(info: dict | None) -> None:
         if not continuous:
             frames.append(env.render())
-        print(f"{len(env.history):4d} {'ok  ' if info['certificate'] else 'FAIL'} "
-              f"{info['primitive']} {np.round(np.asarray(info['param'], dtype=float), 3).tolist()}")
+        if info is not None:
+            print(f"{len(env.history):4d} {'ok  ' if info['certificate'] else 'FAIL'} "
+                  f"{info['primitive']} "
+                  f"{np.round(np.asarray(info['param'], dtype=float), 3).tolist()}")
+
+    result = run_episode(env, policy, args.seed, stop_on_failure=False, on_step=on_step)
     if continuous:
         recorder.frames = None
         stride = max(1, round(env.metadata["render_fps"] / args.fps))
@@ -193,7 +191,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     out.parent.mkdir(parents=True, exist_ok=True)
     images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / args.fps),
                    loop=0)
-    print(f"rho_B = {env.summary['rho_B']:+d}; wrote {len(images)} frames to {out}")
+    print(f"rho_B = {result.rho:+d}; wrote {len(images)} frames to {out}")
     env.close()
     return 0
 
@@ -351,6 +349,20 @@ def parser() -> argparse.ArgumentParser:
         p.add_argument("--env-kwarg", action="append", default=[], metavar="NAME=VALUE",
                        help="keyword argument for gym.make, e.g. action_noise=0.5 (repeatable)")
 
+    def model_options(p: argparse.ArgumentParser) -> None:
+        p.add_argument("--base-url", help="OpenAI-compatible server, e.g. "
+                       "https://api.openai.com/v1 or http://127.0.0.1:11434/v1 (Ollama)")
+        p.add_argument("--model", help="model name at that server")
+        p.add_argument("--api-key-env", default="OPENAI_API_KEY",
+                       help="environment variable holding the API key (default OPENAI_API_KEY)")
+        p.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
+                       default="json_schema", help="what the server supports (default "
+                       "json_schema)")
+        p.add_argument("--timeout", type=float, default=60.0, help="seconds per request")
+        p.add_argument("--retries", type=_count(0), default=3, help="retries per request")
+        p.add_argument("--scripted", metavar="FILE",
+                       help="canned replies (a JSON list) instead of a live model")
+
     v = sub.add_parser("verify", help="run a verification campaign and print the guarantee",
                        description="Run N i.i.d. episodes of a behavior (N fixed in advance) and "
                        "report the confidence that P[success] >= 1 - epsilon and a one-sided "
@@ -435,17 +447,7 @@ def parser() -> argparse.ArgumentParser:
     y.add_argument("--force", action="store_true", help="replace an existing file")
     y.add_argument("--max-rounds", type=_count(1), default=3,
                    help="replies to try, repairs included (default 3)")
-    y.add_argument("--base-url", help="OpenAI-compatible server, e.g. https://api.openai.com/v1 "
-                   "or http://127.0.0.1:11434/v1 (Ollama)")
-    y.add_argument("--model", help="model name at that server")
-    y.add_argument("--api-key-env", default="OPENAI_API_KEY",
-                   help="environment variable holding the API key (default OPENAI_API_KEY)")
-    y.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
-                   default="json_schema", help="what the server supports (default json_schema)")
-    y.add_argument("--timeout", type=float, default=60.0, help="seconds per request")
-    y.add_argument("--retries", type=_count(0), default=3, help="retries per request")
-    y.add_argument("--scripted", metavar="FILE",
-                   help="canned replies (a JSON list) instead of a live model")
+    model_options(y)
     y.add_argument("--replay-transcript", metavar="FILE",
                    help="replay the replies of an earlier synthesize transcript")
     y.add_argument("--verify", type=_count(1), metavar="N",
@@ -465,14 +467,7 @@ def parser() -> argparse.ArgumentParser:
                    help="where the camera views go (default ./scoop_setup)")
     z.add_argument("--seed", type=_count(0), default=0, help="which container placement to show")
     z.add_argument("--force", action="store_true", help="replace a behavior of that name")
-    z.add_argument("--base-url")
-    z.add_argument("--model")
-    z.add_argument("--api-key-env", default="OPENAI_API_KEY")
-    z.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
-                   default="json_schema")
-    z.add_argument("--timeout", type=float, default=60.0)
-    z.add_argument("--retries", type=_count(0), default=3)
-    z.add_argument("--scripted", metavar="FILE", help="canned model replies (a JSON list)")
+    model_options(z)
     z.set_defaults(func=cmd_scoop_setup, replay_transcript=None)
 
     s = sub.add_parser("schema", help="print the JSON Schema of behavior files")

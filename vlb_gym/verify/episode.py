@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import Any, Protocol
 
@@ -46,23 +47,29 @@ class EpisodeResult:
 
 
 def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 0,
-                stop_on_failure: bool = True) -> EpisodeResult:
+                stop_on_failure: bool = True,
+                on_step: Callable[[dict[str, Any]], None] | None = None) -> EpisodeResult:
     """Run ``policy`` from ``env.reset(seed=seed)`` until it finishes or the episode ends.
 
     Any exception from the policy or the environment fails this episode (rho_B = -1, with the
     reason) instead of propagating. With ``stop_on_failure`` the episode stops at the first failed
-    certificate, since rho_B is then already -1.
+    certificate, since rho_B is then already -1. ``on_step`` is called with None after the
+    reset and with every step's info after the step.
     """
     started = time.perf_counter()
     try:
         obs, _ = env.reset(seed=seed)
         policy.reset()
+        if on_step is not None:
+            on_step(None)
         while env.summary is None:
             action, _ = policy.predict(obs)
             if action is None:
                 env.end(finished=True)
                 break
-            obs, _, _, _, _ = env.step(action)
+            obs, _, _, _, info = env.step(action)
+            if on_step is not None:
+                on_step(info)
             if stop_on_failure and env.failed:
                 env.end(finished=False)
     except Exception as exc:  # an episode's failure, never the campaign's end
