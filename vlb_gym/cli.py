@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -81,7 +82,6 @@ def cmd_verify(args: argparse.Namespace) -> int:
     bar = None
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm
-        tqdm.monitor_interval = 0  # no monitor thread: campaign workers are forked
         bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
 
     def on_episode(result):
@@ -104,12 +104,16 @@ def cmd_verify(args: argparse.Namespace) -> int:
     return 0
 
 
+def _rate(value: float) -> str:
+    return f"{value:.0f}" if value >= 100 else f"{value:.3g}"
+
+
 def summary(report: dict[str, Any], report_path: str | None = None) -> str:
     """The human-readable outcome of a campaign."""
     lines = [
         f"{report['env_id']} / {report['behavior']}: {report['episodes']} episodes "
         f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
-        f"{report['episodes_per_second']:.3g} episodes/s)",
+        f"{_rate(report['episodes_per_second'])} episodes/s)",
         f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
         f"  P[success] >= {1 - report['epsilon']:g} with confidence {report['confidence']:.5f}",
         f"  P[success] >= {report['lower_bound']:.5f} at confidence level "
@@ -479,6 +483,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser().parse_args(argv)
     try:
         return args.func(args)
+    except BrokenPipeError:  # the reader went away (``vlb ... | head``): not an error of ours
+        sys.stdout = open(os.devnull, "w")
+        return 0
     except (UsageError, BehaviorSpecError, OSError) as exc:
         print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -87,9 +87,14 @@ def iter_episodes(config: CampaignConfig, workers: int = 1,
         return
     env.close()
     chunk = max(1, min(64, len(indices) // (workers * 16)))
-    # fork: workers start in milliseconds and scripts need no __main__ guard; nothing here runs
-    # threads before the pool starts (the CLI's progress bar runs without a monitor thread)
-    context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    # forkserver: workers fork from a clean server process, never from this one, which may hold
+    # threads or a GL context (a forked EGL context deadlocks); vlb_gym is preloaded there so
+    # workers start fast. Scripts that run campaigns with workers need a __main__ guard.
+    if "forkserver" in mp.get_all_start_methods():
+        context = mp.get_context("forkserver")
+        context.set_forkserver_preload(["vlb_gym.verify.campaign"])
+    else:
+        context = mp.get_context("spawn")
     with context.Pool(workers, initializer=_init_worker, initargs=(config,)) as pool:
         yield from pool.imap_unordered(_run_index, indices, chunksize=chunk)
 

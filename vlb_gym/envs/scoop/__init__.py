@@ -1,10 +1,21 @@
 """``VLB-Scoop-v0``: scene, piles, generator, kinematics, motion, perception, controller,
 primitives, helpers, env."""
 
+import ctypes.util
 import os
 
-# headless rendering by default; must happen before the first ``import mujoco``
-os.environ.setdefault("MUJOCO_GL", "egl")
+
+def _headless_backend() -> str | None:
+    """EGL where libEGL loads, else OSMesa where it is installed (``MUJOCO_GL`` wins if set)."""
+    for backend, library in (("egl", "EGL"), ("osmesa", "OSMesa")):
+        if ctypes.util.find_library(library):
+            return backend
+    return None
+
+
+# must happen before the first ``import mujoco``
+if "MUJOCO_GL" not in os.environ and (_backend := _headless_backend()) is not None:
+    os.environ["MUJOCO_GL"] = _backend
 
 from .env import ScoopEnv  # noqa: E402
 
