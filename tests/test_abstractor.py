@@ -21,20 +21,14 @@ from vlb_gym.verify import CampaignConfig, run_campaign
 from vlb_gym.wrappers import RobustnessWrapper
 
 from .chat_server import ChatServer
-from .conftest import EXAMPLES
+from vlb_gym.abstractor.paper import PAPER, PROMPTS
+
 
 ENV = "VLB-GridExplore-v0"
-PAPER_PROMPT_1 = (
-    "Please construct a function that performs the following tasks in sequence. First, it "
-    "searches over all explored cells that are not obstacles to find the explored cell with the "
-    "highest number of unexplored neighbors. Let's call this identified cell, cell A. Second, it "
-    "sends the agent to cell A and identifies the labels of all adjacent cells. Three, it repeats "
-    "steps one and two until a goal has been found, at which point, it stops.")
-PAPER_PROMPT_2 = ("Please construct a function that performs the following tasks in sequence. "
-                  "First, it finds a goal. Second, it moves between the goal and its starting "
-                  "location 5 times.")
-REPLIES_1 = EXAMPLES / "synthesis" / "paper_behavior1.replies.json"
-REPLIES_2 = EXAMPLES / "synthesis" / "paper_behavior2.replies.json"
+PAPER_PROMPT_1 = PROMPTS["behavior1"]
+PAPER_PROMPT_2 = PROMPTS["behavior2"]
+REPLIES_1 = PAPER / "behavior1.replies.json"
+REPLIES_2 = PAPER / "behavior2.replies.json"
 
 
 def reply(path: Path = REPLIES_1, index: int = 0, **changes) -> str:

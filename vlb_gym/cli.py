@@ -74,9 +74,19 @@ def _check_env(env_id: str, kwargs: dict[str, Any]) -> None:
 
 def cmd_verify(args: argparse.Namespace) -> int:
     kwargs = _env_kwargs(args.env_kwarg)
+    if args.policy:
+        from vlb_gym.baselines.train import policy_env_kwargs
+        try:
+            env_id, trained = policy_env_kwargs(args.policy)
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+        if env_id != args.env_id:
+            raise UsageError(f"--policy {args.policy} was trained on {env_id}, not {args.env_id}")
+        kwargs = {**trained, **kwargs}
     _check_env(args.env_id, kwargs)
-    config = CampaignConfig(args.env_id, args.behavior, args.episodes, args.epsilon, args.delta,
-                            args.seed, kwargs, stop_on_failure=not args.keep_going)
+    config = CampaignConfig(args.env_id, args.policy or args.behavior, args.episodes,
+                            args.epsilon, args.delta, args.seed, kwargs,
+                            stop_on_failure=not args.keep_going, policy=bool(args.policy))
     build(config)[0].close()  # compile the behavior here, so a bad file fails before any episode
     stream = open(args.episodes_out, "w") if args.episodes_out else None
     bar = None
@@ -322,6 +332,35 @@ def cmd_scoop_setup(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_baseline_train(args: argparse.Namespace) -> int:
+    from vlb_gym.baselines.configs import TASKS
+    from vlb_gym.baselines.train import train
+
+    task = TASKS[args.task]
+    if task.env_id != args.env_id:
+        raise UsageError(f"task {args.task} belongs to {task.env_id}, not {args.env_id}")
+    started = time.perf_counter()
+    saved = train(task, args.algo, Path(args.out), args.seed, args.n_envs,
+                  tuple(args.budgets) if args.budgets else None,
+                  Path(args.tensorboard) if args.tensorboard else None, verbose=args.verbose)
+    print(f"trained {args.algo} on {args.task} in {time.perf_counter() - started:.0f} s")
+    for path in saved:
+        print(f"  saved {path}  (verify: vlb verify {args.env_id} --policy {path} "
+              "--episodes 100 --epsilon 0.05)")
+    return 0
+
+
+def cmd_bench_compare(args: argparse.Namespace) -> int:
+    from vlb_gym.baselines.compare import compare
+
+    started = time.perf_counter()
+    compare(Path(args.out), tuple(args.tasks), args.episodes, args.seed, tuple(args.algos),
+            tuple(args.budgets) if args.budgets else None, args.n_envs, args.workers)
+    print(f"wrote {args.out}/compare.md and compare.png in {time.perf_counter() - started:.0f} s")
+    print(Path(args.out, "compare.md").read_text())
+    return 0
+
+
 def graph_text(compiled) -> str:
     """The nodes and edges of a compiled behavior, one per line."""
     lines = [f"{compiled.name}: {compiled.spec.description}"]
@@ -373,8 +412,12 @@ def parser() -> argparse.ArgumentParser:
                        "Clopper-Pearson lower bound on P[success]. Exit code 0 whenever the "
                        "campaign finished, whatever its outcome.")
     v.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-GridExplore-v0")
-    v.add_argument("--behavior", required=True, metavar="NAME_OR_FILE",
-                   help="a shipped behavior name (see 'vlb behaviors') or a behavior JSON file")
+    chosen = v.add_mutually_exclusive_group(required=True)
+    chosen.add_argument("--behavior", metavar="NAME_OR_FILE",
+                        help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
+    chosen.add_argument("--policy", metavar="AGENT.zip",
+                        help="a trained agent ('vlb baseline train'); its training env kwargs "
+                        "apply, --env-kwarg may add to them")
     v.add_argument("--episodes", required=True, type=_count(1), metavar="N")
     v.add_argument("--epsilon", required=True, type=_probability, metavar="EPS",
                    help="the claim is P[success] >= 1 - EPS")
@@ -474,6 +517,43 @@ def parser() -> argparse.ArgumentParser:
     model_options(z)
     z.set_defaults(func=cmd_scoop_setup, replay_transcript=None)
 
+    from vlb_gym.baselines.configs import ALGORITHMS, TASKS
+
+    t = sub.add_parser("baseline", help="train Stable-Baselines3 agents (extra rl)")
+    tsub = t.add_subparsers(dest="baseline_command", required=True, metavar="COMMAND")
+    tt = tsub.add_parser("train", help="train an agent on a task and save checkpoints",
+                         description="Train PPO, A2C or MaskablePPO (invalid-action masking) on a "
+                         "task, on vectorized envs, logging to the SB3 logger (and TensorBoard "
+                         "with --tensorboard); saves AGENT.zip + AGENT.json at every budget.")
+    tt.add_argument("env_id", metavar="ENV_ID")
+    tt.add_argument("--task", required=True, choices=sorted(TASKS))
+    tt.add_argument("--algo", required=True, choices=ALGORITHMS)
+    tt.add_argument("--budgets", type=_count(1), nargs="+", metavar="STEPS",
+                    help="checkpoints in environment steps (default: the task's)")
+    tt.add_argument("--seed", type=_count(0), default=0)
+    tt.add_argument("--n-envs", type=_count(1), default=4)
+    tt.add_argument("--out", default="agents", metavar="DIR")
+    tt.add_argument("--tensorboard", metavar="DIR")
+    tt.add_argument("--verbose", type=int, default=0, choices=[0, 1, 2])
+    tt.set_defaults(func=cmd_baseline_train)
+
+    c = sub.add_parser("bench", help="benchmarks")
+    csub = c.add_subparsers(dest="bench_command", required=True, metavar="COMMAND")
+    cc = csub.add_parser("compare", help="graphs vs RL agents on the same footing",
+                         description="For each task: the hand-written graph, the synthesized "
+                         "graph (scripted paper replies) and RL agents at each training budget, "
+                         "verified on the same N episodes and seeds; writes a Markdown table "
+                         "and a plot to --out.")
+    cc.add_argument("--out", default="results", metavar="DIR")
+    cc.add_argument("--tasks", nargs="+", default=sorted(TASKS), choices=sorted(TASKS))
+    cc.add_argument("--algos", nargs="+", default=list(ALGORITHMS), choices=ALGORITHMS)
+    cc.add_argument("--episodes", type=_count(1), default=100)
+    cc.add_argument("--budgets", type=_count(1), nargs="+", metavar="STEPS")
+    cc.add_argument("--seed", type=_count(0), default=0)
+    cc.add_argument("--n-envs", type=_count(1), default=4)
+    cc.add_argument("--workers", type=_count(1), default=1)
+    cc.set_defaults(func=cmd_bench_compare)
+
     s = sub.add_parser("schema", help="print the JSON Schema of behavior files")
     s.set_defaults(func=cmd_schema)
     return top
@@ -486,7 +566,7 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (``vlb ... | head``): not an error of ours
         sys.stdout = open(os.devnull, "w")
         return 0
-    except (UsageError, BehaviorSpecError, OSError) as exc:
+    except (UsageError, BehaviorSpecError, OSError, ValueError) as exc:
         print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
         return 2
 

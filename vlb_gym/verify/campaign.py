@@ -36,6 +36,7 @@ class CampaignConfig:
     seed: int = 0
     env_kwargs: dict[str, Any] = field(default_factory=dict)
     stop_on_failure: bool = True
+    policy: bool = False  # ``behavior`` is the path of a trained agent (extra ``rl``)
 
     def __post_init__(self) -> None:
         if not isinstance(self.episodes, int) or self.episodes < 1:
@@ -55,8 +56,11 @@ def episode_seed(campaign_seed: int, index: int) -> int:
 
 
 def build(config: CampaignConfig) -> tuple[RobustnessWrapper, Policy]:
-    """The wrapped environment and the compiled behavior of a campaign."""
+    """The wrapped environment and the policy (compiled behavior or trained agent)."""
     env = RobustnessWrapper(gym.make(config.env_id, **config.env_kwargs))
+    if config.policy:
+        from vlb_gym.baselines.train import SB3Policy
+        return env, SB3Policy(config.behavior, env)
     return env, load_behavior(config.behavior, env)
 
 
@@ -120,6 +124,7 @@ def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: 
     return {
         "env_id": config.env_id,
         "behavior": config.behavior,
+        "policy": config.policy,
         "episodes": n,
         "successes": n - failures,
         "failures": failures,

@@ -13,6 +13,7 @@ from vlb_gym.core.primitive import MotionPrimitive, execute
 from .generator import sample_state
 from .helpers import GridHelpers
 from .primitives import Navigate, Sense
+from .tasks import LEGS, TASKS, TaskTracker
 from .types import GOAL, GridState, Label
 from .viewer import render_rgb
 
@@ -50,8 +51,10 @@ class GridExploreEnv(gym.Env):
     (0 empty, 1 obstacle, 2 unexplored, 3 goal).
 
     ## Rewards
-    0 for every step: the environment exists to verify behaviors, whose robustness rho_B is
-    computed by :class:`vlb_gym.RobustnessWrapper` from the certificates, not from rewards.
+    0 without a ``task``: the environment exists to verify behaviors, whose robustness rho_B is
+    computed by :class:`vlb_gym.RobustnessWrapper` from the certificates, not from rewards. With
+    ``task="find_goal"`` or ``"find_goal_and_oscillate"`` a task-aligned reward for RL (see
+    :mod:`.tasks`); it never changes rho_B.
 
     ## Starting State
     ``(x, d)`` drawn uniformly from the allowable space: obstacles and goals a uniform random
@@ -59,8 +62,9 @@ class GridExploreEnv(gym.Env):
     obstacle, no goal) and some goal is reachable from it. All labels start unexplored.
 
     ## Episode End
-    The environment never terminates by itself: a behavior decides when it has finished. Episodes
-    are truncated after ``max_episode_steps`` primitives (500 when made with ``gym.make``).
+    Without a task the environment never terminates by itself: a behavior decides when it has
+    finished. With a task it terminates when the task is done. Episodes are truncated after
+    ``max_episode_steps`` primitives (500 when made with ``gym.make``).
 
     ## Info
     Every step: ``primitive``, ``param``, ``admissible``, ``certificate`` (and ``reason`` when the
@@ -69,7 +73,8 @@ class GridExploreEnv(gym.Env):
 
     ## Arguments
     ``gym.make("VLB-GridExplore-v0", render_mode=None, size=10, n_obstacles=30, n_goals=3,
-    action_noise=0.0)``. ``action_noise`` (cells/s) is the standard deviation of a Gaussian
+    action_noise=0.0, task=None)``. With ``task="find_goal_and_oscillate"`` the observation also
+    holds ``start`` (the start cell) and ``legs`` (legs completed). ``action_noise`` (cells/s) is the standard deviation of a Gaussian
     velocity disturbance on the integrator: the paper's non-deterministic case (Corollary 1).
     ``render_mode="rgb_array"`` renders a top-down picture (see :mod:`.viewer`).
     """
@@ -78,7 +83,7 @@ class GridExploreEnv(gym.Env):
     env_id = "VLB-GridExplore-v0"
 
     def __init__(self, render_mode: str | None = None, size: int = 10, n_obstacles: int = 30,
-                 n_goals: int = 3, action_noise: float = 0.0):
+                 n_goals: int = 3, action_noise: float = 0.0, task: str | None = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode={render_mode!r} is not supported; "
                              f"use one of {self.metadata['render_modes']} or None")
@@ -87,15 +92,23 @@ class GridExploreEnv(gym.Env):
                              f"(got size={size}, n_obstacles={n_obstacles}, n_goals={n_goals})")
         if not action_noise >= 0:
             raise ValueError(f"action_noise must be >= 0 (got {action_noise})")
+        if task is not None and task not in TASKS:
+            raise ValueError(f"task={task!r} is not one of {TASKS} (or None)")
+        self.task = task
+        self._tracker: TaskTracker | None = None
         self.render_mode = render_mode
         self.size, self.n_obstacles, self.n_goals = size, n_obstacles, n_goals
         self.action_noise = float(action_noise)
         half = size / 2
         self.action_space = spaces.MultiDiscrete([2, size, size])
-        self.observation_space = spaces.Dict({
+        observations = {
             "position": spaces.Box(-half, half, shape=(2,), dtype=np.float64),
             "labels": spaces.MultiDiscrete(np.full(size * size, len(Label))),
-        })
+        }
+        if task == "find_goal_and_oscillate":  # what a memoryless policy needs to oscillate
+            observations["start"] = spaces.MultiDiscrete([size, size])
+            observations["legs"] = spaces.Discrete(LEGS + 1)
+        self.observation_space = spaces.Dict(observations)
         sense, navigate = Sense(size), Navigate(size, self.action_noise)
         self.primitives: dict[str, MotionPrimitive[GridState]] = {"sense": sense,
                                                                   "navigate": navigate}
@@ -124,6 +137,7 @@ class GridExploreEnv(gym.Env):
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         super().reset(seed=seed)
         self._state = sample_state(self.np_random, self.size, self.n_obstacles, self.n_goals)
+        self._tracker = TaskTracker(self.task) if self.task else None
         return self._observation(), {"start_cell": self._state.start_cell}
 
     def step(self, action: Any):
@@ -142,7 +156,19 @@ class GridExploreEnv(gym.Env):
         info = outcome.as_info()
         info["cell"] = self._state.cell
         info["goal_found"] = bool(np.any(self._state.labels == GOAL))
-        return self._observation(), 0.0, False, False, info
+        reward, terminated = 0.0, False
+        if self._tracker is not None:
+            reward, terminated = self._tracker.update(self._state, info)
+        return self._observation(), reward, terminated, False, info
+
+    def action_masks(self) -> np.ndarray:
+        """Admissible actions of the flattened action space ``kind * size**2 + i * size + j``
+        (judged with the true map, as admissibility is): for sb3-contrib's MaskablePPO."""
+        state = self.state
+        sense = np.zeros(self.size * self.size, dtype=bool)
+        sense[state.cell[0] * self.size + state.cell[1]] = True
+        navigate = (state.component == state.component[state.cell]).ravel()
+        return np.concatenate([sense, navigate])
 
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
@@ -161,7 +187,8 @@ class GridExploreEnv(gym.Env):
         return (f"uniform over the allowable space of a {self.size}x{self.size} grid: "
                 f"{self.n_obstacles} obstacles and {self.n_goals} goals on distinct uniformly "
                 f"random cells, start position uniform on [{-half:g}, {half:g}]^2, accepted when "
-                f"its cell is empty and some goal is reachable from it; {dynamics}")
+                f"its cell is empty and some goal is reachable from it; {dynamics}"
+                + (f"; task {self.task} (finished = the task terminated)" if self.task else ""))
 
     @property
     def state(self) -> GridState:
@@ -171,5 +198,9 @@ class GridExploreEnv(gym.Env):
         return self._state
 
     def _observation(self) -> dict[str, np.ndarray]:
-        return {"position": self._state.position.copy(),
-                "labels": self._state.labels.ravel().astype(np.int64)}
+        obs = {"position": self._state.position.copy(),
+               "labels": self._state.labels.ravel().astype(np.int64)}
+        if self.task == "find_goal_and_oscillate":
+            obs["start"] = np.array(self._state.start_cell, dtype=np.int64)
+            obs["legs"] = self._tracker.legs
+        return obs

@@ -1,0 +1,108 @@
+"""RL baselines: task rewards, masks, SB3 compatibility, and train -> save -> load -> verify."""
+
+from __future__ import annotations
+
+import json
+
+import gymnasium as gym
+import pytest
+from scipy.stats import beta, binom
+
+from vlb_gym import RobustnessWrapper, load_behavior
+from vlb_gym.baselines.configs import TASKS
+from vlb_gym.baselines.train import make_env, train
+from vlb_gym.baselines.wrappers import FlatActions
+from vlb_gym.cli import main
+from vlb_gym.envs.grid_explore.tasks import LEGS
+from vlb_gym.verify import CampaignConfig, iter_episodes, run_campaign, run_episode
+
+GRID = "VLB-GridExplore-v0"
+
+
+@pytest.mark.parametrize("task", sorted(TASKS))
+def test_sb3_check_env_accepts_both_tasks(task):
+    from stable_baselines3.common.env_checker import check_env
+
+    check_env(gym.make(GRID, task=task).unwrapped)
+    check_env(make_env(GRID, TASKS[task].env_kwargs))
+
+
+def test_flat_actions_and_masks_match_admissibility():
+    env = FlatActions(gym.make(GRID, task="find_goal"))
+    env.reset(seed=4)
+    base = env.unwrapped
+    mask = env.action_masks()
+    assert mask.shape == (200,) and env.action_space.n == 200
+    for index in range(200):
+        kind, i, j = env.action(index)
+        assert index == kind * 100 + i * 10 + j
+        primitive = base.primitives[("sense", "navigate")[kind]]
+        assert mask[index] == primitive.admissible(base.state, (int(i), int(j)))
+
+
+@pytest.mark.parametrize("task, behavior", [("find_goal", "explore_until_goal"),
+                                            ("find_goal_and_oscillate", "find_goal_and_oscillate")])
+def test_tasks_terminate_when_the_graph_finishes(task, behavior):
+    env = RobustnessWrapper(gym.make(GRID, task=task))
+    policy = load_behavior(behavior, env)
+    for seed in range(10):
+        rewards = []
+        result = run_episode(env, policy, seed, stop_on_failure=False,
+                             on_step=lambda info: info and rewards.append(info))
+        assert result.rho == 1 and result.finished
+        assert not policy.finished  # the env ended the episode on the graph's last primitive
+        assert policy.predict(env.unwrapped._observation())[0] is None
+        if task == "find_goal_and_oscillate":
+            assert env.unwrapped._tracker.legs == LEGS
+
+
+def test_task_rewards_follow_the_documented_scheme():
+    env = gym.make(GRID, task="find_goal_and_oscillate")
+    policy = load_behavior("find_goal_and_oscillate", RobustnessWrapper(env))
+    obs, _ = env.reset(seed=3)
+    total, steps = 0.0, 0
+    while True:
+        action, _ = policy.predict(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        total, steps = total + reward, steps + 1
+        if terminated:
+            break
+    assert total == pytest.approx(1.0 + 0.5 * LEGS - 0.01 * steps)
+    assert obs["legs"] == LEGS and tuple(obs["start"]) == env.unwrapped.state.start_cell
+
+
+def test_unknown_task_is_rejected():
+    with pytest.raises(ValueError, match="task='explore' is not one of"):
+        gym.make(GRID, task="explore")
+
+
+@pytest.mark.parametrize("algorithm", ["ppo", "maskable_ppo", "a2c"])
+def test_train_save_load_verify_round_trip(algorithm, tmp_path):
+    saved = train(TASKS["find_goal"], algorithm, tmp_path, budgets=(256,), n_envs=2)
+    assert len(saved) == 1 and saved[0].exists()
+    meta = json.loads(saved[0].with_suffix(".json").read_text())
+    assert meta["algorithm"] == algorithm and meta["steps"] >= 256
+    config = CampaignConfig(GRID, str(saved[0]), 12, seed=5, env_kwargs=meta["env_kwargs"],
+                            policy=True)
+    results = sorted(iter_episodes(config), key=lambda r: r.index)
+    report = run_campaign(config)
+    k = sum(not r.success for r in results)
+    assert report["failures"] == k and report["successes"] == 12 - k
+    assert report["confidence"] == pytest.approx(1 - binom.cdf(k, 12, 0.05))
+    expected = 0.0 if k == 12 else beta.ppf(0.05, 12 - k, k + 1)
+    assert report["lower_bound"] == pytest.approx(expected)
+    assert all(r.reason for r in results if not r.success)  # failures explained, no crash
+
+
+def test_cli_verify_policy_and_mismatch(tmp_path, capsys):
+    saved = train(TASKS["find_goal"], "ppo", tmp_path, budgets=(128,), n_envs=1)[0]
+    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "5", "--epsilon", "0.1",
+                 "--report", str(tmp_path / "r.json")]) == 0
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["policy"] is True and report["episodes"] == 5
+    assert "task find_goal" in report["sampling_distribution"]
+    assert main(["verify", "VLB-Scoop-v0", "--policy", str(saved), "--episodes", "5",
+                 "--epsilon", "0.1"]) == 2
+    assert "was trained on VLB-GridExplore-v0" in capsys.readouterr().err
+    assert main(["verify", GRID, "--policy", str(tmp_path / "none.zip"), "--episodes", "5",
+                 "--epsilon", "0.1"]) == 2

@@ -1,0 +1,42 @@
+"""Per-environment settings of the baselines: tasks, budgets, hyperparameters, graphs to compare."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+ALGORITHMS = ("ppo", "a2c", "maskable_ppo")
+
+
+@dataclass(frozen=True)
+class TaskConfig:
+    """One task of one environment, as RL trains on it and the comparison verifies it."""
+
+    env_id: str
+    task: str
+    max_episode_steps: int
+    graph: str  # the hand-written behavior solving it
+    synthesized: str  # the name vlb synthesize gives the scripted paper replies
+    budgets: tuple[int, ...] = (20_000, 40_000, 80_000)  # checkpoints: training env steps
+    hyperparameters: dict[str, dict[str, Any]] = field(default_factory=dict)
+
+    @property
+    def env_kwargs(self) -> dict[str, Any]:
+        return {"task": self.task, "max_episode_steps": self.max_episode_steps}
+
+
+_GRID_HYPER = {
+    "ppo": {"n_steps": 256, "batch_size": 256, "learning_rate": 3e-4, "ent_coef": 0.01,
+            "gamma": 0.98},
+    "maskable_ppo": {"n_steps": 256, "batch_size": 256, "learning_rate": 3e-4, "ent_coef": 0.01,
+                     "gamma": 0.98},
+    "a2c": {"n_steps": 16, "learning_rate": 7e-4, "ent_coef": 0.01, "gamma": 0.98},
+}
+
+TASKS = {
+    "find_goal": TaskConfig("VLB-GridExplore-v0", "find_goal", 200, "explore_until_goal",
+                            "explore_for_goal", hyperparameters=_GRID_HYPER),
+    "find_goal_and_oscillate": TaskConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 200,
+                                          "find_goal_and_oscillate", "goal_and_back",
+                                          hyperparameters=_GRID_HYPER),
+}

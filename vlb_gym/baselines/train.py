@@ -1,0 +1,121 @@
+"""Training SB3 agents on a task, with checkpoints at each budget, and loading them as policies.
+
+A saved agent is ``NAME.zip`` (Stable-Baselines3's own format) plus ``NAME.json`` (what it was
+trained on: algorithm, env id and kwargs, steps, seed, wall time), so that ``vlb verify --policy``
+rebuilds exactly the environment it was trained for.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import vlb_gym  # noqa: F401 - registers the envs
+
+from .configs import ALGORITHMS, TaskConfig
+from .wrappers import FlatActions
+
+
+def _algorithm(name: str):
+    if name == "ppo":
+        from stable_baselines3 import PPO
+        return PPO
+    if name == "a2c":
+        from stable_baselines3 import A2C
+        return A2C
+    if name == "maskable_ppo":
+        from sb3_contrib import MaskablePPO
+        return MaskablePPO
+    raise ValueError(f"unknown algorithm {name!r}; choose one of {ALGORITHMS}")
+
+
+def make_env(env_id: str, env_kwargs: dict[str, Any]) -> gym.Env:
+    """The training/verification env: flattened actions where the space is MultiDiscrete."""
+    env = gym.make(env_id, **env_kwargs)
+    return FlatActions(env) if isinstance(env.action_space, gym.spaces.MultiDiscrete) else env
+
+
+def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_envs: int = 4,
+          budgets: tuple[int, ...] | None = None, tensorboard: Path | None = None,
+          verbose: int = 0) -> list[Path]:
+    """Train ``algorithm`` on ``config``'s task; save a checkpoint at every budget; return them."""
+    from stable_baselines3.common.env_util import make_vec_env
+
+    cls = _algorithm(algorithm)
+    budgets = tuple(sorted(budgets or config.budgets))
+    vec = make_vec_env(lambda: make_env(config.env_id, config.env_kwargs), n_envs=n_envs,
+                       seed=seed)
+    model = cls("MultiInputPolicy", vec, seed=seed, verbose=verbose, device="cpu",
+                tensorboard_log=str(tensorboard) if tensorboard else None,
+                **config.hyperparameters.get(algorithm, {}))
+    out_dir.mkdir(parents=True, exist_ok=True)
+    saved, started, done = [], time.perf_counter(), 0
+    for budget in budgets:
+        model.learn(total_timesteps=budget - done, reset_num_timesteps=done == 0,
+                    tb_log_name=f"{config.task}_{algorithm}")
+        done = budget
+        path = out_dir / f"{config.task}_{algorithm}_{budget}"
+        model.save(path)
+        meta = {"algorithm": algorithm, "env_id": config.env_id, "env_kwargs": config.env_kwargs,
+                "task": config.task, "steps": int(model.num_timesteps), "seed": seed,
+                "n_envs": n_envs, "wall_seconds": time.perf_counter() - started,
+                "vlb_gym_version": vlb_gym.__version__}
+        path.with_suffix(".json").write_text(json.dumps(meta, indent=2) + "\n")
+        saved.append(path.with_suffix(".zip"))
+    vec.close()
+    return saved
+
+
+class SB3Policy:
+    """A trained agent behind the :class:`~vlb_gym.verify.episode.Policy` interface.
+
+    It never "finishes" by itself: episodes end when the task terminates them (finished) or at
+    the step bound (not finished), exactly as rho_B is defined for any policy.
+    """
+
+    finished = False
+
+    def __init__(self, path: str | Path, env: gym.Env):
+        path = Path(path)
+        zip_path = path if path.suffix == ".zip" else path.with_suffix(".zip")
+        meta_path = zip_path.with_suffix(".json")
+        try:
+            self.meta = json.loads(meta_path.read_text())
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"{meta_path}: cannot read the agent's metadata: {exc}") from None
+        if not zip_path.is_file():
+            raise ValueError(f"{zip_path}: no such saved agent")
+        self.model = _algorithm(self.meta["algorithm"]).load(zip_path, device="cpu")
+        self.env = env
+        self.masked = self.meta["algorithm"] == "maskable_ppo"
+        space = env.action_space
+        self.nvec = tuple(int(n) for n in space.nvec) if isinstance(
+            space, gym.spaces.MultiDiscrete) else None
+        self.name = zip_path.stem
+
+    def reset(self) -> None:
+        pass
+
+    def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
+                deterministic: bool = True) -> tuple[np.ndarray, None]:
+        kwargs = {"action_masks": self.env.unwrapped.action_masks()} if self.masked else {}
+        action, _ = self.model.predict(observation, deterministic=deterministic, **kwargs)
+        if self.nvec is not None:  # trained on flattened actions
+            action = np.array(np.unravel_index(int(action), self.nvec), dtype=np.int64)
+        return action, None
+
+
+def policy_env_kwargs(path: str | Path) -> tuple[str, dict[str, Any]]:
+    """The env id and kwargs an agent was trained on (from its metadata)."""
+    path = Path(path)
+    meta_path = (path if path.suffix == ".zip" else path.with_suffix(".zip")).with_suffix(".json")
+    try:
+        meta = json.loads(meta_path.read_text())
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{meta_path}: cannot read the agent's metadata: {exc}") from None
+    return meta["env_id"], dict(meta["env_kwargs"])
