@@ -106,3 +106,16 @@ def test_cli_verify_policy_and_mismatch(tmp_path, capsys):
     assert "was trained on VLB-GridExplore-v0" in capsys.readouterr().err
     assert main(["verify", GRID, "--policy", str(tmp_path / "none.zip"), "--episodes", "5",
                  "--epsilon", "0.1"]) == 2
+
+
+def test_comparison_benchmark_at_small_scale(tmp_path, capsys):
+    assert main(["bench", "compare", "--out", str(tmp_path), "--episodes", "6", "--budgets",
+                 "256", "--algos", "maskable_ppo", "--n-envs", "2"]) == 0
+    table = (tmp_path / "compare.md").read_text()
+    rows = json.loads((tmp_path / "compare.json").read_text())
+    assert {(r["task"], r["kind"]) for r in rows} == {
+        (t, k) for t in TASKS for k in ("graph", "synthesized graph", "rl")}
+    graphs = [r for r in rows if r["kind"] != "rl"]
+    assert all(r["successes"] == 6 for r in graphs)  # same seeds, the graphs never fail
+    assert table.count("| find_goal") == 3 and (tmp_path / "compare.png").stat().st_size > 1000
+    assert (tmp_path / "behaviors" / "goal_and_back.json").exists()

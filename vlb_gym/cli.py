@@ -68,6 +68,8 @@ def _check_env(env_id: str, kwargs: dict[str, Any]) -> None:
         raise UsageError(f"unknown environment {env_id!r} (vlb-gym registers: {known})")
     try:
         gym.make(env_id, **kwargs).close()
+    except ImportError as exc:
+        raise UsageError(str(exc)) from None
     except (TypeError, ValueError) as exc:
         raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {exc}") from None
 
@@ -468,9 +470,10 @@ def parser() -> argparse.ArgumentParser:
     env_kwarg(w)
     w.set_defaults(func=cmd_render)
 
-    b = sub.add_parser("behaviors", help="list shipped behaviors, or show one",
-                       description="Without NAME, list the shipped behaviors; with NAME (or a "
-                       "file), check it against ENV and print its graph.")
+    b = sub.add_parser("behaviors", help="list the behavior library, or show one behavior",
+                       description="Without NAME, list the library (shipped behaviors and the "
+                       "user's, in $VLB_BEHAVIOR_DIR); with NAME (or a file), check it against "
+                       "ENV and print its graph.")
     b.add_argument("name", nargs="?", metavar="NAME_OR_FILE")
     b.add_argument("--env", dest="env_id", default="VLB-GridExplore-v0")
     b.add_argument("--json", action="store_true", help="print the behavior file")
@@ -566,7 +569,7 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (``vlb ... | head``): not an error of ours
         sys.stdout = open(os.devnull, "w")
         return 0
-    except (UsageError, BehaviorSpecError, OSError, ValueError) as exc:
+    except (UsageError, BehaviorSpecError, OSError, ValueError, ImportError) as exc:
         print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
         return 2
 

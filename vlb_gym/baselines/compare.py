@@ -8,8 +8,8 @@ bound vs training steps for the agents, graphs as horizontal lines), plus ``comp
 from __future__ import annotations
 
 import json
+import os
 import platform
-import tempfile
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -77,17 +77,19 @@ def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 10
 
     out.mkdir(parents=True, exist_ok=True)
     rows: list[Row] = []
-    with tempfile.TemporaryDirectory() as scratch:
-        library = BehaviorLibrary(Path(scratch) / "library")
+    # the synthesized behaviors (and their transcripts) are kept with the results; campaigns,
+    # worker processes included, resolve behavior names in that library
+    library = BehaviorLibrary(out / "behaviors")
+    previous = os.environ.get("VLB_BEHAVIOR_DIR")
+    os.environ["VLB_BEHAVIOR_DIR"] = str(library.directory)
+    try:
         synthesized_graphs(library)
         for name in tasks:
             task = TASKS[name]
-            for behavior, kind in ((task.graph, "graph"),
-                                   (str(library.directory / f"{task.synthesized}.json"),
-                                    "synthesized graph")):
+            for behavior, kind in ((task.graph, "graph"), (task.synthesized, "synthesized graph")):
                 report = _verify(task, behavior, episodes, seed, False, workers)
-                rows.append(_row(task, Path(behavior).stem, kind, report))
-                log(f"{name}: {kind} {Path(behavior).stem}: {report['successes']}/{episodes}")
+                rows.append(_row(task, behavior, kind, report))
+                log(f"{name}: {kind} {behavior}: {report['successes']}/{episodes}")
             for algorithm in algorithms:
                 started = time.perf_counter()
                 checkpoints = train(task, algorithm, out / "agents", seed=seed, n_envs=n_envs,
@@ -100,6 +102,11 @@ def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 10
                                      meta["wall_seconds"]))
                     log(f"{name}: {algorithm} @ {meta['steps']} steps: "
                         f"{report['successes']}/{episodes}")
+    finally:
+        if previous is None:
+            os.environ.pop("VLB_BEHAVIOR_DIR", None)
+        else:
+            os.environ["VLB_BEHAVIOR_DIR"] = previous
     (out / "compare.json").write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
     (out / "compare.md").write_text(markdown(rows, episodes, seed))
     plot(rows, out / "compare.png")

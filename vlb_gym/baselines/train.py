@@ -22,6 +22,12 @@ from .wrappers import FlatActions
 
 
 def _algorithm(name: str):
+    try:
+        import stable_baselines3  # noqa: F401
+        import sb3_contrib  # noqa: F401
+    except ImportError as exc:
+        raise ImportError("the RL baselines need Stable-Baselines3: pip install torch==2.13.0 "
+                          "&& pip install 'vlb-gym[rl]'") from exc
     if name == "ppo":
         from stable_baselines3 import PPO
         return PPO

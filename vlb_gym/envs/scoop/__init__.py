@@ -17,6 +17,11 @@ def _headless_backend() -> str | None:
 if "MUJOCO_GL" not in os.environ and (_backend := _headless_backend()) is not None:
     os.environ["MUJOCO_GL"] = _backend
 
+try:
+    import mujoco  # noqa: E402, F401
+except ImportError as exc:  # pragma: no cover - depends on the installation
+    raise ImportError("VLB-Scoop-v0 needs MuJoCo: pip install 'vlb-gym[scoop]'") from exc
+
 from .env import ScoopEnv  # noqa: E402
 
 __all__ = ["ScoopEnv"]

@@ -20,7 +20,6 @@ from .types import PILE_STYLES
 GRAIN_COUNTS = (230, 260, 290)
 VARIANTS = 2
 PILE_FILE = "scoop_piles.npz"
-PARK = np.array([0.0, 0.0, -5.0])  # where unused state goes while settling (never used)
 
 
 def _initial(style: str, n: int, rng: np.random.Generator) -> np.ndarray:
