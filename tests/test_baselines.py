@@ -117,5 +117,5 @@ def test_comparison_benchmark_at_small_scale(tmp_path, capsys):
         (t, k) for t in TASKS for k in ("graph", "synthesized graph", "rl")}
     graphs = [r for r in rows if r["kind"] != "rl"]
     assert all(r["successes"] == 6 for r in graphs)  # same seeds, the graphs never fail
-    assert table.count("| find_goal") == 3 and (tmp_path / "compare.png").stat().st_size > 1000
+    assert table.count("| find_goal |") == 3 and (tmp_path / "compare.png").stat().st_size > 1000
     assert (tmp_path / "behaviors" / "goal_and_back.json").exists()

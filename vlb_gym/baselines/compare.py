@@ -17,7 +17,7 @@ from pathlib import Path
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
-from .configs import ALGORITHMS, TASKS, TaskConfig
+from .configs import ALGORITHMS, SYNTHESES, TASKS, TaskConfig
 
 EPSILON = 0.05
 DELTA = 0.05
@@ -52,19 +52,17 @@ def _row(task: TaskConfig, name: str, kind: str, report: dict, steps: int | None
                train_seconds, report["wall_seconds"])
 
 
-def synthesized_graphs(library: BehaviorLibrary, backend_for=None) -> None:
-    """Put the paper's two synthesized behaviors into ``library`` (scripted replies unless
-    ``backend_for(name)`` gives a live backend)."""
+def synthesized_graphs(library: BehaviorLibrary) -> None:
+    """Put the graphs of :data:`~.configs.SYNTHESES` into ``library``, synthesized from the
+    paper's requests with the scripted replies (the offline stand-in for a live model)."""
     from vlb_gym.abstractor.backends import ScriptedBackend
     from vlb_gym.abstractor.paper import PAPER, PROMPTS
     from vlb_gym.abstractor.synthesize import save, synthesize
 
-    for key, uses in (("behavior1", ()), ("behavior2", ("explore_for_goal",))):
-        backend = (backend_for(key) if backend_for else None) or \
-            ScriptedBackend.from_file(PAPER / f"{key}.replies.json")
-        name = "explore_for_goal" if key == "behavior1" else "goal_and_back"
-        result = synthesize("VLB-GridExplore-v0", PROMPTS[key], backend, library, uses=uses,
-                            name=name)
+    for item in SYNTHESES:
+        backend = ScriptedBackend.from_file(PAPER / f"{item.prompt}.replies.json")
+        result = synthesize(item.env_id, PROMPTS[item.prompt], backend, library, uses=item.uses,
+                            name=item.name)
         if not result.from_library:
             save(result, library)
 

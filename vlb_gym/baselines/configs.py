@@ -9,6 +9,16 @@ ALGORITHMS = ("ppo", "a2c", "maskable_ppo")
 
 
 @dataclass(frozen=True)
+class Synthesis:
+    """How the comparison obtains a synthesized graph: a request to vlb synthesize."""
+
+    name: str
+    env_id: str
+    prompt: str  # key in vlb_gym.abstractor.paper.PROMPTS; scripted replies in <key>.replies.json
+    uses: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
 class TaskConfig:
     """One task of one environment, as RL trains on it and the comparison verifies it."""
 
@@ -40,3 +50,9 @@ TASKS = {
                                           "find_goal_and_oscillate", "goal_and_back",
                                           hyperparameters=_GRID_HYPER),
 }
+
+#: synthesized graphs the comparison needs, in the order they must be made (later ones use earlier)
+SYNTHESES = (
+    Synthesis("explore_for_goal", "VLB-GridExplore-v0", "behavior1"),
+    Synthesis("goal_and_back", "VLB-GridExplore-v0", "behavior2", uses=("explore_for_goal",)),
+)

@@ -56,7 +56,9 @@ def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_en
     budgets = tuple(sorted(budgets or config.budgets))
     vec = make_vec_env(lambda: make_env(config.env_id, config.env_kwargs), n_envs=n_envs,
                        seed=seed)
-    model = cls("MultiInputPolicy", vec, seed=seed, verbose=verbose, device="cpu",
+    network = "MultiInputPolicy" if isinstance(vec.observation_space, gym.spaces.Dict) \
+        else "MlpPolicy"
+    model = cls(network, vec, seed=seed, verbose=verbose, device="cpu",
                 tensorboard_log=str(tensorboard) if tensorboard else None,
                 **config.hyperparameters.get(algorithm, {}))
     out_dir.mkdir(parents=True, exist_ok=True)
