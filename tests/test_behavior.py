@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 
-import gymnasium as gym
 import networkx as nx
 import numpy as np
 import pytest

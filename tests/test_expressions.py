@@ -392,7 +392,6 @@ def test_evaluation_has_no_builtins_even_if_name_declared():
 # -- hardening found in review: numpy counts, total comprehension work, list sums --------------
 
 def _evaluate(source, **values):
-    import numpy as np  # noqa: F401 - values may hold numpy scalars
     names = {**{k: None for k in BUILTINS},
              **{k: (-1 if not callable(v) else None) for k, v in values.items()}}
     return Expression(source, names, "review").evaluate(guard_namespace({**BUILTINS, **values}))

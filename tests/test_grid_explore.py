@@ -183,6 +183,5 @@ def test_render_shows_the_world():
     env.reset(seed=0)
     frame = env.render()
     assert frame.shape == (320, 320, 3)
-    s = env.unwrapped.state
     dark = (frame.reshape(-1, 3) == (20, 20, 20)).all(axis=1).sum()
     assert dark > 30 * (32 - 1) ** 2 * 0.9  # 30 obstacle squares

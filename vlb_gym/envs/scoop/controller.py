@@ -99,8 +99,6 @@ def run_scoop(state: ScoopState, pose: np.ndarray, camera: DepthCamera) -> Measu
         estimate = locate_containers(camera.points(data))
     except PerceptionFailure as exc:
         raise ControllerFailure(f"perception: {exc}") from None
-    donor = np.array([*estimate.donor.center, estimate.donor.yaw])
-    receiver = np.array([*estimate.receiver.center, estimate.receiver.yaw])
     heading = _heading(estimate)
     h = np.array([np.cos(heading), np.sin(heading), 0.0])
     bed_top = max(estimate.bed_height + GRAIN_RADIUS, FLOOR + 2 * GRAIN_RADIUS)

@@ -1,0 +1,37 @@
+"""The ``vlb`` command line: verify behaviors and agents, plan campaigns, replay and render
+episodes, synthesize behaviors from language, train and compare baselines."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+import vlb_gym
+from vlb_gym.core.spec import BehaviorSpecError
+
+from . import baselines, language, library, verify
+from .common import UsageError
+
+
+def parser() -> argparse.ArgumentParser:
+    top = argparse.ArgumentParser(
+        prog="vlb", description="Verifiable behaviors from motion primitives: run campaigns of "
+        "i.i.d. episodes and turn them into probabilistic guarantees.")
+    top.add_argument("--version", action="version", version=f"vlb-gym {vlb_gym.__version__}")
+    sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for module in (verify, library, language, baselines):
+        module.add_parsers(sub)
+    return top
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except BrokenPipeError:  # the reader went away (``vlb ... | head``): not an error of ours
+        sys.stdout = open(os.devnull, "w")
+        return 0
+    except (UsageError, BehaviorSpecError, OSError, ValueError, ImportError) as exc:
+        print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
+        return 2

@@ -1,0 +1,77 @@
+"""``vlb baseline train`` and ``vlb bench compare``: RL agents and the comparison."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from .common import UsageError, count
+
+
+def cmd_baseline_train(args: argparse.Namespace) -> int:
+    from vlb_gym.baselines.configs import TASKS
+    from vlb_gym.baselines.train import train
+
+    task = TASKS[args.task]
+    if task.env_id != args.env_id:
+        raise UsageError(f"task {args.task} belongs to {task.env_id}, not {args.env_id}")
+    started = time.perf_counter()
+    saved = train(task, args.algo, Path(args.out), args.seed, args.n_envs,
+                  tuple(args.budgets) if args.budgets else None,
+                  Path(args.tensorboard) if args.tensorboard else None, verbose=args.verbose)
+    print(f"trained {args.algo} on {args.task} in {time.perf_counter() - started:.0f} s")
+    for path in saved:
+        print(f"  saved {path}  (verify: vlb verify {args.env_id} --policy {path} "
+              "--episodes 100 --epsilon 0.05)")
+    return 0
+
+
+def cmd_bench_compare(args: argparse.Namespace) -> int:
+    from vlb_gym.baselines.compare import compare
+
+    started = time.perf_counter()
+    compare(Path(args.out), tuple(args.tasks), args.episodes, args.seed, tuple(args.algos),
+            tuple(args.budgets) if args.budgets else None, args.n_envs, args.workers)
+    print(f"wrote {args.out}/compare.md and compare.png in {time.perf_counter() - started:.0f} s")
+    print(Path(args.out, "compare.md").read_text())
+    return 0
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> None:
+    from vlb_gym.baselines.configs import ALGORITHMS, TASKS
+
+    t = sub.add_parser("baseline", help="train Stable-Baselines3 agents (extra rl)")
+    tsub = t.add_subparsers(dest="baseline_command", required=True, metavar="COMMAND")
+    tt = tsub.add_parser("train", help="train an agent on a task and save checkpoints",
+                         description="Train PPO, A2C or MaskablePPO (invalid-action masking) on a "
+                         "task, on vectorized envs, logging to the SB3 logger (and TensorBoard "
+                         "with --tensorboard); saves AGENT.zip + AGENT.json at every budget.")
+    tt.add_argument("env_id", metavar="ENV_ID")
+    tt.add_argument("--task", required=True, choices=sorted(TASKS))
+    tt.add_argument("--algo", required=True, choices=ALGORITHMS)
+    tt.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS",
+                    help="checkpoints in environment steps (default: the task's)")
+    tt.add_argument("--seed", type=count(0), default=0)
+    tt.add_argument("--n-envs", type=count(1), default=4)
+    tt.add_argument("--out", default="agents", metavar="DIR")
+    tt.add_argument("--tensorboard", metavar="DIR")
+    tt.add_argument("--verbose", type=int, default=0, choices=[0, 1, 2])
+    tt.set_defaults(func=cmd_baseline_train)
+
+    c = sub.add_parser("bench", help="benchmarks")
+    csub = c.add_subparsers(dest="bench_command", required=True, metavar="COMMAND")
+    cc = csub.add_parser("compare", help="graphs vs RL agents on the same footing",
+                         description="For each task: the hand-written graph, the synthesized "
+                         "graph (scripted paper replies) and RL agents at each training budget, "
+                         "verified on the same N episodes and seeds; writes a Markdown table "
+                         "and a plot to --out.")
+    cc.add_argument("--out", default="results", metavar="DIR")
+    cc.add_argument("--tasks", nargs="+", default=sorted(TASKS), choices=sorted(TASKS))
+    cc.add_argument("--algos", nargs="+", default=list(ALGORITHMS), choices=ALGORITHMS)
+    cc.add_argument("--episodes", type=count(1), default=100)
+    cc.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS")
+    cc.add_argument("--seed", type=count(0), default=0)
+    cc.add_argument("--n-envs", type=count(1), default=4)
+    cc.add_argument("--workers", type=count(1), default=1)
+    cc.set_defaults(func=cmd_bench_compare)

@@ -1,0 +1,169 @@
+"""``vlb synthesize`` and ``vlb scoop-setup``: behaviors and poses from language."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import gymnasium as gym
+
+from vlb_gym.abstractor.backends import BackendError
+from vlb_gym.core.library import BehaviorLibrary, write_atomic
+from vlb_gym.verify.campaign import CampaignConfig, run_campaign
+
+from .common import UsageError, add_model_options, check_env, count, probability
+from .library import graph_text
+from .verify import summary
+
+
+def backend_from_args(args: argparse.Namespace):
+    from vlb_gym.abstractor.backends import (OpenAICompatibleBackend, ScriptedBackend,
+                                             TranscriptBackend)
+    chosen = [flag for flag, value in (("--scripted", args.scripted),
+                                       ("--replay-transcript", args.replay_transcript),
+                                       ("--base-url", args.base_url)) if value]
+    if len(chosen) != 1:
+        raise UsageError("give exactly one language model: --base-url URL (with --model), "
+                         "--scripted FILE or --replay-transcript FILE"
+                         + (f" (got {', '.join(chosen)})" if chosen else ""))
+    if args.scripted:
+        return ScriptedBackend.from_file(args.scripted)
+    if args.replay_transcript:
+        return TranscriptBackend.from_file(args.replay_transcript)
+    if not args.model:
+        raise UsageError("--base-url needs --model NAME")
+    try:
+        return OpenAICompatibleBackend(args.base_url, args.model, args.api_key_env, args.timeout,
+                                       args.retries, structured_output=args.structured_output)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def cmd_synthesize(args: argparse.Namespace) -> int:
+    from vlb_gym.abstractor.synthesize import SynthesisError, save, save_transcript, synthesize
+
+    check_env(args.env_id, {})
+    backend = backend_from_args(args)
+    library = BehaviorLibrary()
+    info = ""
+    if args.info:
+        try:
+            info = Path(args.info).read_text()
+        except OSError as exc:
+            raise UsageError(f"--info {args.info}: {exc.strerror}") from None
+    try:
+        result = synthesize(args.env_id, args.description, backend, library, info,
+                            tuple(args.uses), args.name, args.max_rounds)
+    except (SynthesisError, BackendError) as exc:
+        transcript = getattr(exc, "transcript", None)
+        if transcript is not None:
+            where = Path(args.out).with_suffix(".failed.transcript.json") if args.out else \
+                library.directory / f"failed-{int(time.time())}.transcript.json"
+            save_transcript(transcript, where)
+            print(f"vlb synthesize: error: {exc}\n  transcript: {where}", file=sys.stderr)
+        else:
+            print(f"vlb synthesize: error: {exc}", file=sys.stderr)
+        return 1
+    compiled = result.compiled
+    if result.from_library:
+        print(f"{compiled.name} is already in the behavior library ({compiled.source}); "
+              "nothing asked")
+        path = Path(compiled.source)
+    else:
+        path = save(result, library, Path(args.out) if args.out else None, args.force)
+        print(f"{compiled.name}: valid after {result.rounds} round(s) with {backend.name}")
+        print(f"  saved: {path}\n  transcript: {path.with_suffix('.transcript.json')}")
+    print(graph_text(compiled))
+    if args.verify:
+        config = CampaignConfig(args.env_id, str(path) if args.out else compiled.name,
+                                args.verify, args.epsilon, seed=args.seed)
+        print(summary(run_campaign(config)))
+    return 0
+
+
+def cmd_scoop_setup(args: argparse.Namespace) -> int:
+    from vlb_gym.abstractor.scoop_setup import ScoopSetup, SetupError, transcript_json
+
+    backend = backend_from_args(args) if (args.base_url or args.scripted) else None
+    env = gym.make("VLB-Scoop-v0").unwrapped
+    env.reset(seed=args.seed)
+    session = ScoopSetup(env, Path(args.images), backend)
+    library = BehaviorLibrary()
+    if backend is None:
+        print("No language model configured: type commands -- translate DX DY DZ (m, base "
+              "frame: x forward, y left, z up), rotate DROLL DPITCH DYAW (degrees), save, quit.")
+    else:
+        print(f"Say how to move the end-effector ({backend.name}); 'quit' to stop.")
+    print(session.view())
+    while True:
+        if sys.stdin.isatty():
+            print("> ", end="", flush=True)
+        line = sys.stdin.readline()
+        if not line or line.strip().lower() in ("quit", "exit", "q"):
+            break
+        if not line.strip():
+            continue
+        try:
+            for message in session.request(line.strip()):
+                print(message)
+        except (SetupError, BackendError) as exc:
+            print(f"error: {exc}")
+    env.close()
+    if backend is not None:
+        write_atomic(Path(args.images) / "transcript.json", transcript_json(session) + "\n")
+    if session.saved is None:
+        print("no pose saved; nothing written")
+        return 1
+    try:
+        path = session.save_behavior(library, args.name, args.force)
+    except SetupError as exc:
+        print(f"vlb scoop-setup: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"wrote {path}\nverify it: vlb verify VLB-Scoop-v0 --behavior {args.name} "
+          "--episodes 59 --epsilon 0.05 --workers 2")
+    return 0
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> None:
+    y = sub.add_parser("synthesize", help="compose a behavior from a description with an LLM",
+                       description="Algorithm 1 of the paper: ask a language model for a behavior "
+                       "graph over the environment's primitives, validate it (JSON, schema, "
+                       "references, graph, expressions, dry run), feed errors back for repair, and "
+                       "add the valid behavior to the library (or --out). A transcript of prompts, "
+                       "replies and errors is saved beside the result.")
+    y.add_argument("env_id", metavar="ENV_ID")
+    y.add_argument("description", metavar="DESCRIPTION", help="the desired behavior, in words")
+    y.add_argument("--info", metavar="FILE", help="extra information for the model (the "
+                   "paper's string I)")
+    y.add_argument("--uses", nargs="+", default=[], metavar="BEHAVIOR",
+                   help="existing behaviors the new one should build on")
+    y.add_argument("--name", help="name of the new behavior; if the library has it already, it "
+                   "is used and the model is not asked")
+    y.add_argument("--out", metavar="FILE", help="write here instead of the user library")
+    y.add_argument("--force", action="store_true", help="replace an existing file")
+    y.add_argument("--max-rounds", type=count(1), default=3,
+                   help="replies to try, repairs included (default 3)")
+    add_model_options(y)
+    y.add_argument("--replay-transcript", metavar="FILE",
+                   help="replay the replies of an earlier synthesize transcript")
+    y.add_argument("--verify", type=count(1), metavar="N",
+                   help="then verify the result with N episodes")
+    y.add_argument("--epsilon", type=probability, default=0.05, help="for --verify")
+    y.add_argument("--seed", type=count(0), default=0, help="for --verify")
+    y.set_defaults(func=cmd_synthesize)
+
+    z = sub.add_parser("scoop-setup", help="choose the scooping sensing pose in words",
+                       description="Move the scoop arm's end-effector by saying how (an LLM turns "
+                       "each request into translate / rotate / save helper calls) or, without a "
+                       "model, by typing those commands; each move writes the wrist camera's "
+                       "view to an image. The saved pose becomes the sensing pose of a copy of "
+                       "scoop_repeatedly in the behavior library. Reads requests from stdin.")
+    z.add_argument("--name", default="my_scoop", help="name of the behavior to write")
+    z.add_argument("--images", default="scoop_setup", metavar="DIR",
+                   help="where the camera views go (default ./scoop_setup)")
+    z.add_argument("--seed", type=count(0), default=0, help="which container placement to show")
+    z.add_argument("--force", action="store_true", help="replace a behavior of that name")
+    add_model_options(z)
+    z.set_defaults(func=cmd_scoop_setup, replay_transcript=None)

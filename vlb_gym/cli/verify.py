@@ -1,0 +1,222 @@
+"""``vlb verify``, ``plan``, ``replay`` and ``render``: campaigns and single episodes."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from vlb_gym.core.library import load_behavior, write_atomic
+from vlb_gym.verify import bounds
+from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_campaign
+from vlb_gym.verify.episode import run_episode
+from vlb_gym.wrappers import RobustnessWrapper
+
+from .common import UsageError, add_env_kwarg, check_env, count, env_kwargs, probability
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    kwargs = env_kwargs(args.env_kwarg)
+    if args.policy:
+        from vlb_gym.baselines.train import policy_env_kwargs
+        try:
+            env_id, trained = policy_env_kwargs(args.policy)
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+        if env_id != args.env_id:
+            raise UsageError(f"--policy {args.policy} was trained on {env_id}, not {args.env_id}")
+        kwargs = {**trained, **kwargs}
+    check_env(args.env_id, kwargs)
+    config = CampaignConfig(args.env_id, args.policy or args.behavior, args.episodes,
+                            args.epsilon, args.delta, args.seed, kwargs,
+                            stop_on_failure=not args.keep_going, policy=bool(args.policy))
+    build(config)[0].close()  # compile the behavior here, so a bad file fails before any episode
+    stream = open(args.episodes_out, "w") if args.episodes_out else None
+    bar = None
+    if not args.quiet and sys.stderr.isatty():
+        from tqdm import tqdm
+        bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
+
+    def on_episode(result):
+        if stream:
+            stream.write(json.dumps(result.to_dict()) + "\n")
+            stream.flush()
+        if bar:
+            bar.update()
+
+    try:
+        report = run_campaign(config, args.workers, on_episode)
+    finally:
+        if bar:
+            bar.close()
+        if stream:
+            stream.close()
+    if args.report:
+        write_atomic(Path(args.report), json.dumps(report, indent=2) + "\n")
+    print(summary(report, args.report))
+    return 0
+
+
+def _rate(value: float) -> str:
+    return f"{value:.0f}" if value >= 100 else f"{value:.3g}"
+
+
+def summary(report: dict[str, Any], report_path: str | None = None) -> str:
+    """The human-readable outcome of a campaign."""
+    lines = [
+        f"{report['env_id']} / {report['behavior']}: {report['episodes']} episodes "
+        f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
+        f"{_rate(report['episodes_per_second'])} episodes/s)",
+        f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
+        f"  P[success] >= {1 - report['epsilon']:g} with confidence {report['confidence']:.5f}",
+        f"  P[success] >= {report['lower_bound']:.5f} at confidence level "
+        f"{1 - report['delta']:g} (one-sided Clopper-Pearson)",
+        f"  holds for: {report['sampling_distribution']}",
+    ]
+    failed = report["failed_episodes"]
+    for item in failed[:5]:
+        lines.append(f"  failed episode {item['index']} (seed {item['seed']}): {item['reason']}")
+    if len(failed) > 5:
+        lines.append(f"  ... {len(failed) - 5} more failed episodes in the report")
+    if failed:
+        kwargs = "".join(f" --env-kwarg {k}={json.dumps(v)}"
+                         for k, v in report["env_kwargs"].items())
+        lines.append(f"  replay one: vlb replay {report['env_id']} --behavior {report['behavior']} "
+                     f"--seed {failed[0]['seed']}{kwargs}")
+    if report_path:
+        lines.append(f"  report: {report_path}")
+    return "\n".join(lines)
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    n = bounds.min_episodes(args.epsilon, args.confidence, args.failures)
+    if args.json:
+        print(json.dumps({"epsilon": args.epsilon, "confidence": args.confidence,
+                          "failures": args.failures, "episodes": n}))
+    else:
+        print(f"{n} episodes: with at most {args.failures} failure(s), P[success] >= "
+              f"{1 - args.epsilon:g} holds with confidence >= {args.confidence:g} "
+              f"(reached: {bounds.confidence(n, args.failures, args.epsilon):.5f})")
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    kwargs = env_kwargs(args.env_kwarg)
+    check_env(args.env_id, kwargs)
+    seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
+    config = CampaignConfig(args.env_id, args.behavior, 1, env_kwargs=kwargs)
+    env, policy = build(config)
+    result = run_episode(env, policy, seed, stop_on_failure=not args.keep_going)
+    for number, info in enumerate(env.history, 1):
+        mark = "ok " if info["certificate"] else "FAIL"
+        extra = f"  ({info['reason']})" if "reason" in info else ""
+        print(f"{number:4d} {mark} {info['primitive']:<10} {info['param']}{extra}")
+    print(f"rho_B = {result.rho:+d}, finished={result.finished}, primitives={result.primitives}"
+          + (f", reason: {result.reason}" if result.reason else ""))
+    return 0
+
+
+def cmd_render(args: argparse.Namespace) -> int:
+    from PIL import Image
+
+    kwargs = env_kwargs(args.env_kwarg)
+    check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"})
+    env = RobustnessWrapper(gym.make(args.env_id, render_mode="rgb_array", **kwargs))
+    policy = load_behavior(args.behavior, env)
+    recorder = env.unwrapped
+    continuous = hasattr(recorder, "frames")  # envs that film their primitives as they run
+    frames: list[np.ndarray] = []
+    if continuous:
+        recorder.frames = frames
+
+    def on_step(info: dict | None) -> None:
+        if not continuous:
+            frames.append(env.render())
+        if info is not None:
+            print(f"{len(env.history):4d} {'ok  ' if info['certificate'] else 'FAIL'} "
+                  f"{info['primitive']} "
+                  f"{np.round(np.asarray(info['param'], dtype=float), 3).tolist()}")
+
+    result = run_episode(env, policy, args.seed, stop_on_failure=False, on_step=on_step)
+    if continuous:
+        recorder.frames = None
+        stride = max(1, round(env.metadata["render_fps"] / args.fps))
+        frames = frames[::stride]
+    frames.append(env.render())
+    images = [Image.fromarray(frame) for frame in frames]
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / args.fps),
+                   loop=0)
+    print(f"rho_B = {result.rho:+d}; wrote {len(images)} frames to {out}")
+    env.close()
+    return 0
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> None:
+    v = sub.add_parser("verify", help="run a verification campaign and print the guarantee",
+                       description="Run N i.i.d. episodes of a behavior (N fixed in advance) and "
+                       "report the confidence that P[success] >= 1 - epsilon and a one-sided "
+                       "Clopper-Pearson lower bound on P[success]. Exit code 0 whenever the "
+                       "campaign finished, whatever its outcome.")
+    v.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-GridExplore-v0")
+    chosen = v.add_mutually_exclusive_group(required=True)
+    chosen.add_argument("--behavior", metavar="NAME_OR_FILE",
+                        help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
+    chosen.add_argument("--policy", metavar="AGENT.zip",
+                        help="a trained agent ('vlb baseline train'); its training env kwargs "
+                        "apply, --env-kwarg may add to them")
+    v.add_argument("--episodes", required=True, type=count(1), metavar="N")
+    v.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
+                   help="the claim is P[success] >= 1 - EPS")
+    v.add_argument("--delta", type=probability, default=0.05,
+                   help="lower bound at confidence level 1 - DELTA (default 0.05)")
+    v.add_argument("--seed", type=count(0), default=0, help="campaign seed (default 0)")
+    v.add_argument("--workers", type=count(1), default=1, help="processes (default 1)")
+    v.add_argument("--report", metavar="PATH", help="write the JSON report here")
+    v.add_argument("--episodes-out", metavar="PATH",
+                   help="stream one JSON line per episode here as episodes finish")
+    v.add_argument("--keep-going", action="store_true",
+                   help="run each episode to its end even after a certificate failed")
+    v.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_env_kwarg(v)
+    v.set_defaults(func=cmd_verify)
+
+    p = sub.add_parser("plan", help="print the number of episodes a guarantee needs",
+                       description="Least N such that N episodes with at most K failures give "
+                       "confidence C that P[success] >= 1 - EPS.")
+    p.add_argument("--epsilon", required=True, type=probability, metavar="EPS")
+    p.add_argument("--confidence", required=True, type=probability, metavar="C")
+    p.add_argument("--failures", type=count(0), default=0, metavar="K")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_plan)
+
+    r = sub.add_parser("replay", help="re-run one episode step by step",
+                       description="Re-run one episode from its reset seed (as listed in a "
+                       "report's failed_episodes) and print every primitive with its certificate.")
+    r.add_argument("env_id", metavar="ENV_ID")
+    r.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
+    r.add_argument("--seed", required=True, type=count(0),
+                   help="the episode's reset seed, or the campaign seed with --index")
+    r.add_argument("--index", type=count(0), help="episode index within campaign --seed")
+    r.add_argument("--keep-going", action="store_true",
+                   help="continue after the first failed certificate")
+    add_env_kwarg(r)
+    r.set_defaults(func=cmd_replay)
+
+    w = sub.add_parser("render", help="write one episode of a behavior as an animated GIF",
+                       description="Run one episode (reset seed --seed) and write what the "
+                       "environment's rgb_array rendering shows as a GIF; environments that film "
+                       "their primitives (VLB-Scoop-v0) give the whole motion.")
+    w.add_argument("env_id", metavar="ENV_ID")
+    w.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
+    w.add_argument("--seed", type=count(0), default=0)
+    w.add_argument("--out", required=True, metavar="FILE.gif")
+    w.add_argument("--fps", type=count(1), default=10)
+    add_env_kwarg(w)
+    w.set_defaults(func=cmd_render)
