@@ -50,9 +50,9 @@ def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_en
           budgets: tuple[int, ...] | None = None, tensorboard: Path | None = None,
           verbose: int = 0) -> list[Path]:
     """Train ``algorithm`` on ``config``'s task; save a checkpoint at every budget; return them."""
+    cls = _algorithm(algorithm)  # first: it says which extra is missing
     from stable_baselines3.common.env_util import make_vec_env
 
-    cls = _algorithm(algorithm)
     budgets = tuple(sorted(budgets or config.budgets))
     vec = make_vec_env(lambda: make_env(config.env_id, config.env_kwargs), n_envs=n_envs,
                        seed=seed)
