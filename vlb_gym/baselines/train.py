@@ -107,7 +107,7 @@ class SB3Policy:
         self.name = zip_path.stem
 
     def reset(self) -> None:
-        pass
+        """Nothing to forget: the agents are feed-forward (no recurrent state)."""
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
                 deterministic: bool = True) -> tuple[np.ndarray, None]:
