@@ -17,8 +17,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 from .types import GOAL, GridState
 
 TASKS = ("find_goal", "find_goal_and_oscillate")
@@ -40,7 +38,7 @@ class TaskTracker:
     def update(self, state: GridState, info: dict[str, Any]) -> tuple[float, bool]:
         reward = -STEP_COST - (0.0 if info["certificate"] else FAILED_CERTIFICATE)
         if not self.goal_found:
-            if np.any(state.labels == GOAL):
+            if info["goal_found"]:  # the env's step already looked for goal labels
                 self.goal_found = True
                 return reward + GOAL_FOUND, self.task == "find_goal"
             return reward, False
