@@ -12,7 +12,8 @@ from typing import Any
 import gymnasium as gym
 
 from vlb_gym.core.behavior import CompiledBehavior
-from vlb_gym.core.library import BehaviorLibrary, compile_for, spec_json, write_atomic
+from vlb_gym.core.files import write_atomic
+from vlb_gym.core.library import BehaviorLibrary, compile_for, spec_json
 from vlb_gym.core.spec import BehaviorSpecError
 
 from .backends import BackendError, ChatBackend

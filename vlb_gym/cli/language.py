@@ -10,7 +10,8 @@ from pathlib import Path
 import gymnasium as gym
 
 from vlb_gym.abstractor.backends import BackendError
-from vlb_gym.core.library import BehaviorLibrary, write_atomic
+from vlb_gym.core.files import write_atomic
+from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
 from .common import UsageError, add_model_options, check_env, count, probability

@@ -11,7 +11,8 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from vlb_gym.core.library import load_behavior, write_atomic
+from vlb_gym.core.files import write_atomic
+from vlb_gym.core.library import load_behavior
 from vlb_gym.verify import bounds
 from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_campaign
 from vlb_gym.verify.episode import run_episode

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -17,6 +16,7 @@ from typing import Any
 import gymnasium as gym
 
 from .behavior import BehaviorPolicy, CompiledBehavior, compile_behavior
+from .files import write_atomic
 from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
 
 SHIPPED = "vlb_gym.behaviors"
@@ -67,6 +67,47 @@ class BehaviorLibrary:
         return name in shipped_behaviors() or (self.directory / f"{name}.json").is_file()
 
     def resolve(self, ref: str, base_dir: Path | None = None
+                ) -> tuple[BehaviorSpec, str, Path | None]:
+        """Load ``ref`` (a name or a path, relative to ``base_dir`` if given) as a spec."""
+        if _is_path(ref):
+            path = Path(ref).expanduser()
+            if not path.is_absolute() and base_dir is not None:
+                path = base_dir / path
+            return _read(path)
+        if ref in shipped_behaviors():
+            text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
+            return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
+        if (self.directory / f"{ref}.json").is_file():
+            return _read(self.directory / f"{ref}.json")
+        raise BehaviorSpecError(f"unknown behavior {ref!r}: known behaviors are "
+                                f"{', '.join(self.names())}; or give a path to a .json file")
+
+    def save(self, spec: BehaviorSpec, overwrite: bool = False) -> Path:
+        """Write ``spec`` as ``<directory>/<name>.json`` atomically; never over a shipped one."""
+        if spec.name in shipped_behaviors():
+            raise BehaviorSpecError(f"{spec.name!r} is a shipped behavior; choose another name")
+        path = self.directory / f"{spec.name}.json"
+        if path.exists() and not overwrite:
+            raise BehaviorSpecError(f"{path}: a behavior named {spec.name!r} exists already")
+        write_atomic(path, spec_json(spec))
+        return path
+
+    def describe(self) -> list[dict[str, Any]]:
+        """Name, environment and description of every behavior, for prompts and listings."""
+        out = []
+        for name in self.names():
+            spec = self.resolve(name)[0]
+            out.append({"name": name, "env": spec.env, "description": spec.description})
+        return out
+
+
+def spec_json(spec: BehaviorSpec) -> str:
+    """A behavior document as pretty JSON (aliases, no defaults)."""
+    data = spec.model_dump(by_alias=True, exclude_defaults=True)
+    return json.dumps(data, indent=2) + "\n"
+
+
+def resolve(self, ref: str, base_dir: Path | None = None
                 ) -> tuple[BehaviorSpec, str, Path | None]:
         """Load ``ref`` (a name or a path, relative to ``base_dir`` if given) as a spec."""
         if _is_path(ref):

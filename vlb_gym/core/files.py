@@ -1,0 +1,86 @@
+"""Reading untrusted files and writing results safely.
+
+Every file a user or a language model names (behavior files, scripted replies, transcripts, agent
+metadata) is read with :func:`read_limited`: regular files only (no FIFO, device or directory, so
+``/dev/zero`` or a pipe cannot hang or exhaust the process), at most a given size. JSON documents go
+through :func:`load_json`, which also caps nesting depth before the decoder recurses. Outputs are
+written with :func:`write_atomic`: readers see the old file or the whole new one, and a failed write
+leaves nothing behind.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import stat
+import tempfile
+from pathlib import Path
+from typing import Any
+
+MAX_FILE_BYTES = 1_000_000
+MAX_JSON_DEPTH = 64
+
+_STRING = re.compile(rb'"(?:[^"\\]|\\.)*"', re.DOTALL)
+_BRACKET = re.compile(rb"[\[\]{}]")
+
+
+class InputFileError(ValueError):
+    """An input file cannot be used; the message names the file and says why."""
+
+
+def read_limited(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES,
+                 what: str = "file") -> bytes:
+    """The bytes of ``path`` if it is a regular file of at most ``limit`` bytes."""
+    path = Path(path)
+    try:
+        # O_NONBLOCK: opening a FIFO with no writer must not block; it is refused just below
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        raise InputFileError(f"{path}: cannot read {what}: {exc.strerror}") from None
+    with os.fdopen(fd, "rb") as handle:
+        info = os.fstat(handle.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise InputFileError(f"{path}: cannot read {what}: not a regular file")
+        if info.st_size > limit:
+            raise InputFileError(f"{path}: {what} is {info.st_size} bytes; the limit is {limit}")
+        data = handle.read(limit + 1)
+    if len(data) > limit:  # the file grew while we read it
+        raise InputFileError(f"{path}: {what} is larger than the limit of {limit} bytes")
+    return data
+
+
+def json_depth(text: str | bytes) -> int:
+    """The deepest nesting of arrays and objects in a JSON text (strings ignored)."""
+    data = text.encode() if isinstance(text, str) else text
+    depth = deepest = 0
+    for match in _BRACKET.finditer(_STRING.sub(b'""', data)):
+        depth += 1 if match.group() in (b"[", b"{") else -1
+        deepest = max(deepest, depth)
+    return deepest
+
+
+def load_json(text: str | bytes, source: str, max_depth: int = MAX_JSON_DEPTH) -> Any:
+    """Decode JSON whose nesting is at most ``max_depth``; errors name ``source`` and the place.
+
+    Raises :class:`json.JSONDecodeError` for malformed text (so callers can report line and
+    column) and :class:`InputFileError` for a document nested too deeply.
+    """
+    if json_depth(text) > max_depth:
+        raise InputFileError(f"{source}: JSON nested deeper than {max_depth} levels")
+    return json.loads(text)
+
+
+def write_atomic(path: str | os.PathLike[str], text: str) -> None:
+    """Write ``text`` to ``path`` so that readers see the old file or the whole new one; on any
+    failure the temporary file is removed and the old file stays as it was."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as handle:
+            handle.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
