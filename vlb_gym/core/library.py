@@ -107,55 +107,6 @@ def spec_json(spec: BehaviorSpec) -> str:
     return json.dumps(data, indent=2) + "\n"
 
 
-def resolve(self, ref: str, base_dir: Path | None = None
-                ) -> tuple[BehaviorSpec, str, Path | None]:
-        """Load ``ref`` (a name or a path, relative to ``base_dir`` if given) as a spec."""
-        if _is_path(ref):
-            path = Path(ref).expanduser()
-            if not path.is_absolute() and base_dir is not None:
-                path = base_dir / path
-            return _read(path)
-        if ref in shipped_behaviors():
-            text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
-            return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
-        if (self.directory / f"{ref}.json").is_file():
-            return _read(self.directory / f"{ref}.json")
-        raise BehaviorSpecError(f"unknown behavior {ref!r}: known behaviors are "
-                                f"{', '.join(self.names())}; or give a path to a .json file")
-
-    def save(self, spec: BehaviorSpec, overwrite: bool = False) -> Path:
-        """Write ``spec`` as ``<directory>/<name>.json`` atomically; never over a shipped one."""
-        if spec.name in shipped_behaviors():
-            raise BehaviorSpecError(f"{spec.name!r} is a shipped behavior; choose another name")
-        path = self.directory / f"{spec.name}.json"
-        if path.exists() and not overwrite:
-            raise BehaviorSpecError(f"{path}: a behavior named {spec.name!r} exists already")
-        write_atomic(path, spec_json(spec))
-        return path
-
-    def describe(self) -> list[dict[str, Any]]:
-        """Name, environment and description of every behavior, for prompts and listings."""
-        out = []
-        for name in self.names():
-            spec = self.resolve(name)[0]
-            out.append({"name": name, "env": spec.env, "description": spec.description})
-        return out
-
-
-def spec_json(spec: BehaviorSpec) -> str:
-    """A behavior document as pretty JSON (aliases, no defaults)."""
-    data = spec.model_dump(by_alias=True, exclude_defaults=True)
-    return json.dumps(data, indent=2) + "\n"
-
-
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` so that readers see the old file or the whole new one."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", dir=path.parent, delete=False, suffix=".tmp") as tmp:
-        tmp.write(text)
-    os.replace(tmp.name, path)
-
-
 def resolve(ref: str, base_dir: Path | None = None) -> tuple[BehaviorSpec, str, Path | None]:
     """Resolve ``ref`` in the default library (see the module docstring)."""
     return BehaviorLibrary().resolve(ref, base_dir)
