@@ -41,6 +41,7 @@ class PromptContext:
     helper_notes: str  # what the helpers' types mean
     behaviors: list[dict[str, Any]]  # name, description, document
     uses: tuple[str, ...]
+    skipped: dict[str, str]  # library behaviors that do not load -> why
 
     @classmethod
     def build(cls, env: gym.Env, library: BehaviorLibrary, uses: tuple[str, ...] = ()
@@ -49,20 +50,22 @@ class PromptContext:
         env_id = getattr(interface, "env_id", None) or env.spec.id
         primitives = {name: {"description": p.description, "parameters": str(p.param_space)}
                       for name, p in interface.primitives.items()}
-        missing = [u for u in uses if u not in library]
-        if missing:
-            raise BehaviorSpecError(f"--uses: unknown behavior(s) {', '.join(missing)}; known: "
-                                    f"{', '.join(library.names())}")
+        specs, skipped = library.load_all()
+        for use in uses:
+            if use in skipped:
+                raise BehaviorSpecError(f"--uses {use}: {skipped[use]}")
+            if use not in specs:
+                raise BehaviorSpecError(f"--uses: unknown behavior {use!r}; known: "
+                                        f"{', '.join(specs)}")
         behaviors = []
-        for name in library.names():
-            spec = library.resolve(name)[0]
+        for name, spec in specs.items():
             if spec.env in (None, env_id):
                 behaviors.append({"name": name, "description": spec.description,
                                   "document": spec.model_dump(by_alias=True,
                                                               exclude_defaults=True)})
         helpers = interface.make_helpers()
         notes = " ".join((inspect.getdoc(type(helpers)) or "").split("\n\n", 1)[-1].split())
-        return cls(env_id, primitives, helpers.describe(), notes, behaviors, tuple(uses))
+        return cls(env_id, primitives, helpers.describe(), notes, behaviors, tuple(uses), skipped)
 
 
 def request_schema(context: PromptContext) -> dict[str, Any]:

@@ -59,6 +59,7 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
     if name is not None and name in library:
         return Synthesis(compile_for(name, env, library), transcript, from_library=True)
     context = PromptContext.build(env, library, uses)
+    transcript["skipped_library_behaviors"] = context.skipped
     messages = build_messages(description, context, info)
     schema = request_schema(context)
     transcript["messages"] = list(messages)

@@ -24,12 +24,14 @@ from typing import Any, Protocol
 import networkx as nx
 import numpy as np
 
-from .expressions import BUILTINS, Expression, ExpressionError, guard_namespace
+from .expressions import BUILTINS, Budget, Expression, ExpressionError, guard_namespace
 from .helpers import Helpers, arity
 from .primitive import MotionPrimitive
 from .spec import BehaviorSpec, BehaviorSpecError
 
 VALUE = -1  # arity marker of names that are values, not functions
+MAX_BEHAVIOR_DEPTH = 16  # sub-behaviors nested within each other
+MAX_CALL_DEPTH = 16  # behavior functions calling each other
 
 
 class BehaviorInterface(Protocol):
@@ -97,14 +99,16 @@ def _fail(source: str, place: str, message: str, layer: str) -> BehaviorSpecErro
 def _expr_names(text: str) -> set[str]:
     try:
         return {n.id for n in ast.walk(ast.parse(text, mode="eval")) if isinstance(n, ast.Name)}
-    except SyntaxError:
+    except (SyntaxError, RecursionError, MemoryError):  # reported by the expression checker
         return set()
 
 
 def _check_references(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
-                      resolve: Resolver, base_dir: Path | None,
-                      chain: tuple[str, ...]) -> dict[str, _Node]:
-    """Layer 'references': ids unique; primitives, sub-behaviors, nodes, variables exist."""
+                      resolve: Resolver, base_dir: Path | None, chain: tuple[str, ...],
+                      compiled: dict[str, CompiledBehavior]) -> dict[str, _Node]:
+    """Layer 'references': ids unique; primitives, sub-behaviors, nodes, variables exist.
+    Sub-behaviors are compiled once each (``compiled`` holds them by source), never in a cycle
+    and never nested deeper than MAX_BEHAVIOR_DEPTH."""
     def fail(place: str, message: str) -> BehaviorSpecError:
         return _fail(source, place, message, "references")
 
@@ -122,7 +126,13 @@ def _check_references(spec: BehaviorSpec, interface: BehaviorInterface, source: 
             if child_source in chain:
                 raise fail(f"nodes[{i}].behavior",
                            "sub-behavior cycle: " + " -> ".join((*chain, child_source)))
-            child = compile_behavior(child_spec, interface, child_source, resolve, child_dir, chain)
+            if len(chain) >= MAX_BEHAVIOR_DEPTH:
+                raise fail(f"nodes[{i}].behavior", f"sub-behaviors nested more than "
+                                                   f"{MAX_BEHAVIOR_DEPTH} deep")
+            child = compiled.get(child_source)
+            if child is None:
+                child = compile_behavior(child_spec, interface, child_source, resolve, child_dir,
+                                         _chain=chain, _compiled=compiled)
         nodes[node.id] = _Node(node.id, node.primitive, child)
 
     def check_target(node_id: str, param: str | None, place: str, node_field: str) -> None:
@@ -215,21 +225,29 @@ class _Expressions:
             calls.add_edges_from((other, name) for other in spec.functions
                                  if other in _expr_names(fn.expr))
         try:
-            return list(nx.topological_sort(calls))
+            order = list(nx.topological_sort(calls))
         except nx.NetworkXUnfeasible:
             cycle = " -> ".join(a for a, _ in nx.find_cycle(calls))
             raise self.fail("functions", f"recursive functions are not allowed ({cycle})") from None
+        if nx.dag_longest_path_length(calls) >= MAX_CALL_DEPTH:
+            chain = " -> ".join(reversed(nx.dag_longest_path(calls)))
+            raise self.fail("functions", f"functions call each other more than {MAX_CALL_DEPTH} "
+                                         f"deep ({chain})")
+        return order
 
 
 def compile_behavior(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
-                     resolve: Resolver, base_dir: Path | None = None,
-                     _chain: tuple[str, ...] = ()) -> CompiledBehavior:
+                     resolve: Resolver, base_dir: Path | None = None, *,
+                     _chain: tuple[str, ...] = (),
+                     _compiled: dict[str, CompiledBehavior] | None = None) -> CompiledBehavior:
     """Check ``spec`` against ``interface`` and compile it.
 
     Checks run in layers -- references, then the graph, then expressions -- and the first
     problem raises :class:`BehaviorSpecError` naming the file, the place and the layer.
     """
-    nodes = _check_references(spec, interface, source, resolve, base_dir, (*_chain, source))
+    compiled = {} if _compiled is None else _compiled
+    nodes = _check_references(spec, interface, source, resolve, base_dir, (*_chain, source),
+                              compiled)
     graph = _check_graph(spec, nodes, source)
     expr = _Expressions(spec, interface, source)
     out_edges: dict[str, list[_Edge]] = {n: [] for n in nodes}
@@ -238,17 +256,19 @@ def compile_behavior(spec: BehaviorSpec, interface: BehaviorInterface, source: s
             edge.source, edge.to, expr(edge.guard, f"edges[{i}].guard"),
             expr(edge.param, f"edges[{i}].param"),
             tuple((v, expr(t, f"edges[{i}].set.{v}")) for v, t in edge.set.items())))
-    return CompiledBehavior(spec.name, source, spec, nodes, out_edges, spec.start.node,
-                            expr(spec.start.param, "start.param"), frozenset(spec.terminals),
-                            expr.variables, expr.functions, graph)
+    compiled[source] = CompiledBehavior(
+        spec.name, source, spec, nodes, out_edges, spec.start.node,
+        expr(spec.start.param, "start.param"), frozenset(spec.terminals), expr.variables,
+        expr.functions, graph)
+    return compiled[source]
 
 
 class _Frame:
     __slots__ = ("behavior", "ns", "node")
 
-    def __init__(self, behavior: CompiledBehavior, static: Mapping[str, Any]):
+    def __init__(self, behavior: CompiledBehavior, static: Mapping[str, Any], budget: Budget):
         self.behavior = behavior
-        self.ns = guard_namespace(static)
+        self.ns = guard_namespace(static, budget)
         self.node = behavior.start_node
         for name, fn in behavior.functions:
             self.ns[name] = fn.evaluate(self.ns)
@@ -267,7 +287,8 @@ class BehaviorPolicy:
         self.behavior = behavior
         self._interface = interface
         self._helpers = interface.make_helpers()
-        self._static = {**BUILTINS, **self._helpers.functions()}
+        self._budget = Budget()  # one evaluation at a time, whichever frame it runs in
+        self._static = self._budget.charging(self._helpers.functions())
         self.reset()
 
     @property
@@ -301,7 +322,7 @@ class BehaviorPolicy:
             raise BehaviorRuntimeError(f"{expr.where}: {type(exc).__name__}: {exc}") from exc
 
     def _enter_behavior(self, behavior: CompiledBehavior) -> np.ndarray:
-        frame = _Frame(behavior, self._static)
+        frame = _Frame(behavior, self._static, self._budget)
         self._stack.append(frame)
         for name, expr in behavior.variables:
             frame.ns[name] = self._run(expr, frame)

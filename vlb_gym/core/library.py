@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -16,10 +17,11 @@ from typing import Any
 import gymnasium as gym
 
 from .behavior import BehaviorPolicy, CompiledBehavior, compile_behavior
-from .files import write_atomic
+from .files import InputFileError, read_limited, write_atomic
 from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
 
 SHIPPED = "vlb_gym.behaviors"
+_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
 
 def user_dir() -> Path:
@@ -42,9 +44,9 @@ def _is_path(ref: str) -> bool:
 
 def _read(path: Path) -> tuple[BehaviorSpec, str, Path]:
     try:
-        text = path.read_bytes()
-    except OSError as exc:
-        raise BehaviorSpecError(f"{path}: cannot read behavior file: {exc.strerror}") from None
+        text = read_limited(path, what="behavior file")
+    except InputFileError as exc:
+        raise BehaviorSpecError(str(exc), "json") from None
     return parse_spec(text, str(path)), str(path.resolve()), path.resolve().parent
 
 
@@ -70,17 +72,34 @@ class BehaviorLibrary:
                 ) -> tuple[BehaviorSpec, str, Path | None]:
         """Load ``ref`` (a name or a path, relative to ``base_dir`` if given) as a spec."""
         if _is_path(ref):
+            return self._read_path(ref, base_dir)
+        return self.resolve_name(ref)
+
+    def resolve_name(self, ref: str, base_dir: Path | None = None
+                     ) -> tuple[BehaviorSpec, str, Path | None]:
+        """Load the library behavior named ``ref``; paths are refused (what a behavior from a
+        language model may reference). ``base_dir`` is ignored: names need none."""
+        if not _NAME.fullmatch(ref):
+            raise BehaviorSpecError(f"{ref!r} is not a behavior name: only behaviors of the "
+                                    f"library can be referenced, by name ({', '.join(self.names())})")
+        if ref in shipped_behaviors():
             path = Path(ref).expanduser()
             if not path.is_absolute() and base_dir is not None:
                 path = base_dir / path
             return _read(path)
-        if ref in shipped_behaviors():
             text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
             return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
         if (self.directory / f"{ref}.json").is_file():
             return _read(self.directory / f"{ref}.json")
         raise BehaviorSpecError(f"unknown behavior {ref!r}: known behaviors are "
                                 f"{', '.join(self.names())}; or give a path to a .json file")
+
+    @staticmethod
+    def _read_path(ref: str, base_dir: Path | None) -> tuple[BehaviorSpec, str, Path]:
+        path = Path(ref).expanduser()
+        if not path.is_absolute() and base_dir is not None:
+            path = base_dir / path
+        return _read(path)
 
     def save(self, spec: BehaviorSpec, overwrite: bool = False) -> Path:
         """Write ``spec`` as ``<directory>/<name>.json`` atomically; never over a shipped one."""
@@ -92,13 +111,16 @@ class BehaviorLibrary:
         write_atomic(path, spec_json(spec))
         return path
 
-    def describe(self) -> list[dict[str, Any]]:
-        """Name, environment and description of every behavior, for prompts and listings."""
-        out = []
+    def load_all(self) -> tuple[dict[str, BehaviorSpec], dict[str, str]]:
+        """Every behavior that loads, by name, and why each of the others does not: one broken
+        file in the user's library does not hide the rest."""
+        specs, broken = {}, {}
         for name in self.names():
-            spec = self.resolve(name)[0]
-            out.append({"name": name, "env": spec.env, "description": spec.description})
-        return out
+            try:
+                specs[name] = self.resolve_name(name)[0]
+            except BehaviorSpecError as exc:
+                broken[name] = str(exc)
+        return specs, broken
 
 
 def spec_json(spec: BehaviorSpec) -> str:
@@ -107,20 +129,18 @@ def spec_json(spec: BehaviorSpec) -> str:
     return json.dumps(data, indent=2) + "\n"
 
 
-def resolve(ref: str, base_dir: Path | None = None) -> tuple[BehaviorSpec, str, Path | None]:
-    """Resolve ``ref`` in the default library (see the module docstring)."""
-    return BehaviorLibrary().resolve(ref, base_dir)
-
-
 def compile_spec(spec: BehaviorSpec, env: gym.Env, source: str, base_dir: Path | None = None,
-                 library: BehaviorLibrary | None = None) -> CompiledBehavior:
-    """Compile a spec against ``env`` (wrappers are looked through), checking its env id."""
+                 library: BehaviorLibrary | None = None, names_only: bool = False
+                 ) -> CompiledBehavior:
+    """Compile a spec against ``env`` (wrappers are looked through), checking its env id. With
+    ``names_only`` its sub-behaviors must be library behaviors named, never paths."""
     interface: Any = env.unwrapped
     env_id = getattr(interface, "env_id", None)
     if spec.env is not None and env_id is not None and spec.env != env_id:
         raise BehaviorSpecError(f"{source}: env: behavior is written for {spec.env!r}, "
                                 f"not {env_id!r}")
-    lookup = (library or BehaviorLibrary()).resolve
+    library = library or BehaviorLibrary()
+    lookup = library.resolve_name if names_only else library.resolve
     return compile_behavior(spec, interface, source, lookup, base_dir)
 
 

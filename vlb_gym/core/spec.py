@@ -25,14 +25,17 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints, ValidationError, model_validator
 
+from .files import InputFileError, load_json
+
 Identifier = Annotated[str, StringConstraints(pattern=r"^[A-Za-z][A-Za-z0-9_]*$", max_length=64)]
 ExpressionText = Annotated[str, StringConstraints(min_length=1, max_length=2000)]
 
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schema" / "behavior.schema.json"
 
 
-#: Validation layers, in the order they run; BehaviorSpecError.layer names the one that failed.
-LAYERS = ("json", "schema", "references", "graph", "expressions", "dry-run")
+MAX_FUNCTIONS = 32
+MAX_VARIABLES = 64
+MAX_ERRORS_SHOWN = 5
 
 
 class BehaviorSpecError(ValueError):
@@ -94,8 +97,9 @@ class BehaviorSpec(_Model):
     name: Identifier
     description: str = ""
     env: str | None = Field(None, description="environment id the behavior is written for")
-    variables: dict[Identifier, ExpressionText] = Field(default_factory=dict)
-    functions: dict[Identifier, Function] = Field(default_factory=dict)
+    variables: dict[Identifier, ExpressionText] = Field(default_factory=dict,
+                                                        max_length=MAX_VARIABLES)
+    functions: dict[Identifier, Function] = Field(default_factory=dict, max_length=MAX_FUNCTIONS)
     nodes: list[Node] = Field(min_length=1, max_length=256)
     edges: list[Edge] = Field(default_factory=list, max_length=1024)
     start: Start
@@ -112,10 +116,14 @@ def _place(loc: tuple[Any, ...]) -> str:
 def parse_spec(text: str | bytes, source: str = "<behavior>") -> BehaviorSpec:
     """Parse and schema-check a behavior document; errors name ``source`` and the place."""
     try:
-        data = json.loads(text)
+        data = load_json(text, source)
     except json.JSONDecodeError as exc:
         raise BehaviorSpecError(f"{source}: line {exc.lineno} column {exc.colno}: "
                                 f"invalid JSON: {exc.msg}", "json") from None
+    except UnicodeDecodeError:
+        raise BehaviorSpecError(f"{source}: not UTF-8 text", "json") from None
+    except InputFileError as exc:
+        raise BehaviorSpecError(str(exc), "json") from None
     return spec_from_data(data, source)
 
 
@@ -124,7 +132,11 @@ def spec_from_data(data: Any, source: str = "<behavior>") -> BehaviorSpec:
     try:
         return BehaviorSpec.model_validate(data)
     except ValidationError as exc:
-        lines = [f"{source}: {_place(err['loc'])}: {err['msg']}" for err in exc.errors()]
+        errors = exc.errors()
+        lines = [f"{source}: {_place(err['loc'])}: {err['msg']}"
+                 for err in errors[:MAX_ERRORS_SHOWN]]
+        if len(errors) > MAX_ERRORS_SHOWN:
+            lines.append(f"{source}: ... and {len(errors) - MAX_ERRORS_SHOWN} more problems")
         raise BehaviorSpecError("\n".join(lines), "schema") from None
 
 
