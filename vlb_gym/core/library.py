@@ -81,12 +81,9 @@ class BehaviorLibrary:
         language model may reference). ``base_dir`` is ignored: names need none."""
         if not _NAME.fullmatch(ref):
             raise BehaviorSpecError(f"{ref!r} is not a behavior name: only behaviors of the "
-                                    f"library can be referenced, by name ({', '.join(self.names())})")
+                                    f"library can be referenced, by name "
+                                    f"({', '.join(self.names())})")
         if ref in shipped_behaviors():
-            path = Path(ref).expanduser()
-            if not path.is_absolute() and base_dir is not None:
-                path = base_dir / path
-            return _read(path)
             text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
             return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
         if (self.directory / f"{ref}.json").is_file():
