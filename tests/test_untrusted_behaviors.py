@@ -1,0 +1,229 @@
+"""Hostile behavior files and LLM replies: every finding of the hardening review, kept as a test.
+
+Each case used to hang, exhaust memory, end in a traceback or leak a file; now it is refused at
+load or fails its episode with a clear reason, within seconds.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+
+import pytest
+
+from vlb_gym.abstractor.backends import ScriptedBackend
+from vlb_gym.abstractor.synthesize import SynthesisError, synthesize
+from vlb_gym.abstractor.validate import validate_reply
+from vlb_gym.core.behavior import MAX_BEHAVIOR_DEPTH, MAX_CALL_DEPTH
+from vlb_gym.core.expressions import (BUILTINS, MAX_CALLS, EvaluationLimitError, Expression,
+                                      ExpressionError, guard_namespace)
+from vlb_gym.core.library import BehaviorLibrary, compile_for, load_behavior
+from vlb_gym.core.spec import MAX_FUNCTIONS, BehaviorSpecError
+from vlb_gym.verify.episode import run_episode
+
+from .conftest import explore_doc
+
+pytestmark = pytest.mark.timeout(120)
+
+ENV = "VLB-GridExplore-v0"
+QUICK = 10.0  # seconds: every hostile case must be decided well within this
+
+#: The reviewer's payloads, each within the whitelist of the old checker.
+ROUND_DIGITS = "round(5, -1000000000)"
+NESTED_IN = "[[0]*10000 in [[0]*9999+[1]]*10000 for a in [0]*10000 for b in [0]*19]"
+FORMAT_WIDTH = "'%99999999d' % 1"
+FORMAT_REPR = "'%s' % explored"
+
+
+def evaluate(source: str, **values):
+    names = {name: (0 if callable(value) else -1) for name, value in values.items()}
+    return Expression(source, {**names, **{n: None for n in BUILTINS}},
+                      "test").evaluate(guard_namespace(values))
+
+
+def timed(call):
+    started = time.perf_counter()
+    try:
+        call()
+    finally:
+        assert time.perf_counter() - started < QUICK
+
+
+# -- expressions ---------------------------------------------------------------------------------
+
+def test_round_with_a_huge_digits_argument_is_refused_at_once():
+    with pytest.raises(EvaluationLimitError, match="round"):
+        timed(lambda: evaluate(ROUND_DIGITS))
+    assert evaluate("round(2.675, 2)") == 2.67 or evaluate("round(2.675, 2)") == 2.68
+
+
+def test_work_counts_what_each_item_does_not_only_items():
+    with pytest.raises(EvaluationLimitError):
+        timed(lambda: evaluate(NESTED_IN))
+
+
+def test_string_formatting_is_refused_at_load():
+    for source in (FORMAT_WIDTH, FORMAT_REPR):
+        with pytest.raises(ExpressionError, match="numeric modulo only"):
+            Expression(source, {"explored": -1}, "test")
+
+
+def test_string_formatting_is_refused_at_run_time_for_variables():
+    with pytest.raises(EvaluationLimitError, match="numeric modulo only"):
+        evaluate("s % 1", s="%99999999d")
+    assert evaluate("n % 4", n=7) == 3
+
+
+def test_integers_cannot_grow_without_bound():
+    with pytest.raises(EvaluationLimitError, match="integer"):
+        evaluate("n * n * n * n", n=10**9)
+    with pytest.raises(EvaluationLimitError, match="integer"):
+        evaluate("int(x)", x=1e300)
+
+
+def doubling_functions(count: int) -> dict:
+    """The shipped explore functions plus f0 ... f(count-1), each calling the previous twice."""
+    functions = {**explore_doc()["functions"], "f0": {"args": [], "expr": "1"}}
+    for k in range(1, count):
+        functions[f"f{k}"] = {"args": [], "expr": f"f{k - 1}() + f{k - 1}()"}
+    return functions
+
+
+def test_too_many_functions_are_refused_at_load(grid_env, write_behavior):
+    doc = explore_doc(functions=doubling_functions(41))
+    with pytest.raises(BehaviorSpecError, match=f"at most {MAX_FUNCTIONS} items"):
+        compile_for(str(write_behavior(doc)), grid_env)
+
+
+def test_functions_nested_too_deep_are_refused_at_load(grid_env, write_behavior):
+    doc = explore_doc(functions=doubling_functions(MAX_CALL_DEPTH + 2))
+    with pytest.raises(BehaviorSpecError, match=f"more than {MAX_CALL_DEPTH} deep"):
+        compile_for(str(write_behavior(doc)), grid_env)
+
+
+def test_exponentially_many_calls_fail_the_episode_quickly(grid_env, write_behavior):
+    """2**16 calls from 16 doubling functions: the call budget ends the episode, not the process."""
+    doc = explore_doc(functions=doubling_functions(MAX_CALL_DEPTH))
+    doc["edges"][0]["guard"] = f"f{MAX_CALL_DEPTH - 1}() > 0"
+    policy = load_behavior(str(write_behavior(doc)), grid_env)
+    started = time.perf_counter()
+    result = run_episode(grid_env, policy, seed=0)
+    assert time.perf_counter() - started < QUICK
+    assert result.rho == -1 and f"more than {MAX_CALLS} function calls" in result.reason
+
+
+def test_a_string_doubled_in_every_step_fails_the_episode(grid_env, write_behavior):
+    doc = explore_doc(variables={"s": "'ab'"})
+    doc["edges"][1]["set"] = {"s": "s + s"}
+    result = run_episode(grid_env, load_behavior(str(write_behavior(doc)), grid_env), seed=0,
+                         stop_on_failure=False)
+    assert result.rho == -1 and "more than 10000 elements" in result.reason
+
+
+# -- files ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("path", ["/dev/zero", "/dev/null"])
+def test_special_files_are_refused_without_reading(grid_env, path):
+    with pytest.raises(BehaviorSpecError, match="not a regular file"):
+        timed(lambda: load_behavior(path, grid_env))
+
+
+def test_a_fifo_is_refused_without_blocking(grid_env, tmp_path):
+    fifo = tmp_path / "behavior.json"
+    os.mkfifo(fifo)
+    with pytest.raises(BehaviorSpecError, match="not a regular file"):
+        timed(lambda: load_behavior(str(fifo), grid_env))
+
+
+def test_an_oversized_file_is_refused(grid_env, write_behavior):
+    path = write_behavior(json.dumps(explore_doc(description="x" * 2_000_000)))
+    with pytest.raises(BehaviorSpecError, match="the limit is 1000000"):
+        load_behavior(str(path), grid_env)
+
+
+def test_deeply_nested_json_is_refused(grid_env, write_behavior):
+    path = write_behavior("[" * 100_000 + "]" * 100_000)
+    with pytest.raises(BehaviorSpecError, match="nested deeper than 64 levels"):
+        load_behavior(str(path), grid_env)
+
+
+def chain_doc(name: str, child: str | None, fan: int = 1) -> dict:
+    """A behavior whose ``fan`` nodes in a row each run ``child`` (or sense, at the end)."""
+    if child is None:
+        nodes = [{"id": f"n{k}", "primitive": "sense"} for k in range(fan)]
+        edges = [{"from": f"n{k}", "to": f"n{k + 1}", "param": "current_cell()"}
+                 for k in range(fan - 1)]
+        return {"name": name, "nodes": nodes, "edges": edges,
+                "start": {"node": "n0", "param": "current_cell()"}, "terminals": [f"n{fan - 1}"]}
+    nodes = [{"id": f"n{k}", "behavior": child} for k in range(fan)]
+    edges = [{"from": f"n{k}", "to": f"n{k + 1}"} for k in range(fan - 1)]
+    return {"name": name, "nodes": nodes, "edges": edges, "start": {"node": "n0"},
+            "terminals": [f"n{fan - 1}"]}
+
+
+def test_a_3000_deep_chain_of_sub_behaviors_is_refused(grid_env, tmp_path):
+    depth = 3000
+    for k in range(depth):
+        child = f"b{k + 1}.json" if k + 1 < depth else None
+        (tmp_path / f"b{k}.json").write_text(json.dumps(chain_doc(f"b{k}", child)))
+    with pytest.raises(BehaviorSpecError, match=f"nested more than {MAX_BEHAVIOR_DEPTH} deep"):
+        timed(lambda: compile_for(str(tmp_path / "b0.json"), grid_env))
+
+
+def test_sub_behaviors_are_compiled_once_per_file(grid_env, tmp_path):
+    """Three files of 256 nodes, each node running the next file: 256**3 compilations before."""
+    for name, child in (("a", "b.json"), ("b", "c.json"), ("c", None)):
+        (tmp_path / f"{name}.json").write_text(json.dumps(chain_doc(name, child, fan=256)))
+    assert (tmp_path / "a.json").stat().st_size > 15_000
+    started = time.perf_counter()
+    compiled = compile_for(str(tmp_path / "a.json"), grid_env)
+    assert time.perf_counter() - started < QUICK
+    children = {id(node.child) for node in compiled.nodes.values()}
+    assert len(children) == 1  # one compiled b, shared by all 256 nodes
+    result = run_episode(grid_env, load_behavior(str(tmp_path / "c.json"), grid_env), seed=0)
+    assert result.rho == 1 and result.primitives == 256
+
+
+# -- LLM replies ---------------------------------------------------------------------------------
+
+def test_a_reply_may_not_reference_a_path(grid_env, tmp_path, user_library):
+    secret = tmp_path / "secret.json"
+    secret.write_text("TOP-SECRET-CONTENT")
+    for ref in (str(secret), "/etc/hostname", "../secret.json", "explore_until_goal.json"):
+        reply = json.dumps({"name": "sneaky", "nodes": [{"id": "x", "behavior": ref}],
+                            "start": {"node": "x"}, "terminals": ["x"]})
+        with pytest.raises(BehaviorSpecError, match="is not a behavior name") as info:
+            validate_reply(reply, grid_env, BehaviorLibrary(user_library))
+        assert "TOP-SECRET" not in str(info.value) and info.value.layer == "references"
+
+
+def test_a_reply_may_reference_library_behaviors_by_name(grid_env, user_library):
+    reply = json.dumps({"name": "again", "nodes": [{"id": "x", "behavior": "explore_until_goal"}],
+                        "start": {"node": "x"}, "terminals": ["x"]})
+    compiled = validate_reply(reply, grid_env, BehaviorLibrary(user_library))
+    assert compiled.nodes["x"].child.name == "explore_until_goal"
+
+
+@pytest.mark.parametrize("payload", [ROUND_DIGITS, NESTED_IN, "len('ab' * 6000 * 6000)"])
+def test_hostile_expressions_in_a_reply_fail_the_dry_run_quickly(payload, user_library):
+    hostile = explore_doc(name="hostile")
+    hostile["edges"][0]["guard"] = f"not goal_found() and bool({payload})"
+    backend = ScriptedBackend([json.dumps(hostile)])
+    with pytest.raises(SynthesisError) as info:
+        timed(lambda: synthesize(ENV, "explore", backend, BehaviorLibrary(user_library),
+                                 max_rounds=1))
+    rounds = info.value.transcript["rounds"]
+    assert rounds[0]["layer"] == "dry-run" and "EvaluationLimitError" in rounds[0]["error"]
+
+
+def test_one_broken_library_file_does_not_stop_synthesis(user_library):
+    (user_library / "broken.json").write_text("{ not json")
+    good = explore_doc(name="mine")
+    (user_library / "mine.json").write_text(json.dumps(good))
+    replies = [json.dumps(explore_doc(name="fresh"))]
+    result = synthesize(ENV, "explore", ScriptedBackend(replies), BehaviorLibrary(user_library))
+    assert result.compiled.name == "fresh"
+    assert "broken" in result.transcript["skipped_library_behaviors"]
+    prompt = result.transcript["messages"][1]["content"]
+    assert "- mine:" in prompt and "broken" not in prompt
