@@ -28,6 +28,7 @@ from __future__ import annotations
 import ast
 import inspect
 import numbers
+import warnings
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
@@ -465,7 +466,9 @@ class Expression:
         if len(source) > MAX_SOURCE_CHARS:
             raise ExpressionError(f"{where}: expression longer than {MAX_SOURCE_CHARS} characters")
         try:
-            tree = ast.parse(source.strip(), mode="eval")
+            with warnings.catch_warnings():  # e.g. "'int' object is not subscriptable": it fails
+                warnings.simplefilter("ignore", SyntaxWarning)  # at run time, with its reason
+                tree = ast.parse(source.strip(), mode="eval")
         except SyntaxError as exc:
             raise ExpressionError(f"{where}: syntax error in {source!r:.80}: {exc.msg} "
                                   f"(column {exc.offset})") from None
@@ -486,7 +489,9 @@ class Expression:
         self.source = source
         self.where = where
         try:
-            self.code = compile(tree, f"<{where}>", "eval")
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", SyntaxWarning)
+                self.code = compile(tree, f"<{where}>", "eval")
         except (RecursionError, MemoryError):
             raise ExpressionError(f"{where}: expression nested too deeply") from None
 
