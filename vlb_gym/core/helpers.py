@@ -32,7 +32,13 @@ def arity(fn: Callable[..., Any]) -> int | None:
 
 
 class Helpers(abc.ABC):
-    """Base class: a named set of decision functions over one observation."""
+    """Base class: a named set of decision functions over one observation.
+
+    Helpers run inside a behavior's evaluation budget (:mod:`vlb_gym.core.expressions`), so each
+    must cost at most about the size of the observation and reject malformed arguments cheaply,
+    without iterating them. A helper that returns a list says so in its return annotation
+    (``-> list[...]``): the budget then charges each call the list's length.
+    """
 
     @abc.abstractmethod
     def bind(self, observation: Any) -> None:
