@@ -227,3 +227,22 @@ def test_one_broken_library_file_does_not_stop_synthesis(user_library):
     assert "broken" in result.transcript["skipped_library_behaviors"]
     prompt = result.transcript["messages"][1]["content"]
     assert "- mine:" in prompt and "broken" not in prompt
+
+
+def test_a_directory_is_refused_and_no_descriptor_leaks(grid_env, tmp_path):
+    before = len(os.listdir("/proc/self/fd"))
+    for _ in range(20):
+        with pytest.raises(BehaviorSpecError, match="not a regular file"):
+            load_behavior(str(tmp_path) + "/", grid_env)
+    assert len(os.listdir("/proc/self/fd")) <= before
+
+
+def test_a_failed_atomic_write_leaves_the_old_file_and_nothing_else(tmp_path):
+    from vlb_gym.core.files import write_atomic
+
+    (tmp_path / "taken").mkdir()  # os.replace cannot put a file over a directory
+    with pytest.raises(OSError):
+        write_atomic(tmp_path / "taken", "new")
+    write_atomic(tmp_path / "report.json", "old")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report.json", "taken"]
+    assert (tmp_path / "report.json").read_text() == "old"

@@ -38,13 +38,16 @@ def read_limited(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES,
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError as exc:
         raise InputFileError(f"{path}: cannot read {what}: {exc.strerror}") from None
-    with os.fdopen(fd, "rb") as handle:
-        info = os.fstat(handle.fileno())
+    try:
+        info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
             raise InputFileError(f"{path}: cannot read {what}: not a regular file")
         if info.st_size > limit:
             raise InputFileError(f"{path}: {what} is {info.st_size} bytes; the limit is {limit}")
-        data = handle.read(limit + 1)
+        with os.fdopen(fd, "rb", closefd=False) as handle:
+            data = handle.read(limit + 1)
+    finally:
+        os.close(fd)
     if len(data) > limit:  # the file grew while we read it
         raise InputFileError(f"{path}: {what} is larger than the limit of {limit} bytes")
     return data
