@@ -74,9 +74,10 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
         f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
         f"{_rate(report['episodes_per_second'])} episodes/s)",
         f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
-        f"  P[success] >= {1 - report['epsilon']:g} with confidence {report['confidence']:.5f}",
-        f"  P[success] >= {report['lower_bound']:.5f} at confidence level "
-        f"{1 - report['delta']:g} (one-sided Clopper-Pearson)",
+        f"  P[success] >= {bounds.one_minus_str(report['epsilon'])} with confidence "
+        f"{bounds.floor_str(report['confidence'])}",
+        f"  P[success] >= {bounds.floor_str(report['lower_bound'])} at confidence level "
+        f"{bounds.one_minus_str(report['delta'])} (one-sided Clopper-Pearson)",
         f"  holds for: {report['sampling_distribution']}",
     ]
     failed = report["failed_episodes"]
@@ -100,9 +101,10 @@ def cmd_plan(args: argparse.Namespace) -> int:
         print(json.dumps({"epsilon": args.epsilon, "confidence": args.confidence,
                           "failures": args.failures, "episodes": n}))
     else:
+        reached = bounds.confidence(n, args.failures, args.epsilon)
         print(f"{n} episodes: with at most {args.failures} failure(s), P[success] >= "
-              f"{1 - args.epsilon:g} holds with confidence >= {args.confidence:g} "
-              f"(reached: {bounds.confidence(n, args.failures, args.epsilon):.5f})")
+              f"{bounds.one_minus_str(args.epsilon)} holds with confidence >= {args.confidence} "
+              f"(reached: {bounds.floor_str(reached)})")
     return 0
 
 

@@ -133,8 +133,9 @@ def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: 
         "delta": config.delta,
         "lower_bound": low,
         "seed": config.seed,
-        "statement": (f"P[success] >= {1 - config.epsilon:g} with confidence {conf:.5f}; "
-                      f"P[success] >= {low:.5f} at confidence level {1 - config.delta:g} "
+        "statement": (f"P[success] >= {bounds.one_minus_str(config.epsilon)} with confidence "
+                      f"{bounds.floor_str(conf)}; P[success] >= {bounds.floor_str(low)} at "
+                      f"confidence level {bounds.one_minus_str(config.delta)} "
                       "(one-sided Clopper-Pearson)"),
         "sampling_distribution": distribution,
         "env_kwargs": config.env_kwargs,

@@ -1,0 +1,147 @@
+"""The ``vlb`` command line against bad input: output paths, env settings, input files, Ctrl-C,
+worker counts, huge sample sizes and guarantees that never claim more than was computed."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.stats import binom, poisson
+
+from vlb_gym.cli import common, main
+from vlb_gym.envs.grid_explore import GridExploreEnv
+from vlb_gym.verify import bounds
+from vlb_gym.verify.campaign import CampaignConfig, build_report
+from vlb_gym.verify.episode import EpisodeResult
+
+from .conftest import EXAMPLES
+
+SHIPPED = Path(__file__).resolve().parent.parent / "vlb_gym" / "behaviors"
+GRID = "VLB-GridExplore-v0"
+
+
+@pytest.fixture
+def behavior(tmp_path) -> Path:
+    """A user's behavior file (a copy of a shipped one)."""
+    path = tmp_path / "mine.json"
+    shutil.copy(SHIPPED / "explore_until_goal.json", path)
+    return path
+
+
+def verify(*extra: str, behavior: str | Path = "explore_until_goal", episodes: int = 3) -> int:
+    return main(["verify", GRID, "--behavior", str(behavior), "--episodes", str(episodes),
+                 "--epsilon", "0.1", "--quiet", *extra])
+
+
+def one_line_error(capsys, *words: str) -> str:
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("vlb ") and "Traceback" not in err, err
+    for word in words:
+        assert word in err, err
+    return err
+
+
+# --------------------------------------------------------------------------- 6. min_episodes
+
+
+@pytest.mark.timeout(10)
+@pytest.mark.parametrize("eps, conf, k", [(1e-30, 0.99, 0), (1e-19, 0.99, 1), (1e-12, 0.5, 7),
+                                          (1e-300, 0.95, 0), (5e-324, 0.9, 0)])
+def test_min_episodes_for_tiny_epsilon_is_quick_and_minimal(eps, conf, k):
+    n = bounds.min_episodes(eps, conf, k)
+    assert bounds.confidence(n, k, eps) >= conf > bounds.confidence(n - 1, k, eps)
+    if k == 0:  # (1 - eps)**n <= 1 - conf: n = log(1 - conf) / log(1 - eps) ~ -log(1 - conf) / eps
+        assert float(n * Fraction(eps) / Fraction(-math.log1p(-conf))) == pytest.approx(1, rel=1e-9)
+    else:  # Binomial(n, eps) is Poisson(n * eps) up to O(eps)
+        assert poisson.sf(k, n * eps) == pytest.approx(conf, rel=1e-9)
+
+
+def test_plan_with_tiny_epsilon_returns(capsys):
+    assert main(["plan", "--epsilon", "1e-30", "--confidence", "0.99", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["episodes"] == 4605170185988084757070680245862
+    assert main(["plan", "--epsilon", "1e-19", "--confidence", "0.99", "--failures", "1"]) == 0
+    assert capsys.readouterr().out.startswith("66383520679938150401 episodes")
+
+
+def test_plan_past_the_float_range_is_a_usage_error(capsys):
+    assert main(["plan", "--epsilon", "1e-320", "--confidence", "0.9", "--failures", "3"]) == 2
+    one_line_error(capsys, "beyond floating point")
+
+
+def exact_min_episodes(eps: float, conf: float) -> int:
+    """Least n with (1 - eps)**n <= 1 - conf in exact rational arithmetic (no failures)."""
+    survive, target, n = 1 - Fraction(eps), 1 - Fraction(conf), 1
+    power = survive
+    while power > target:
+        power, n = power * survive, n + 1
+    return n
+
+
+@pytest.mark.parametrize("eps, conf", [(0.05, 0.95), (0.01, 0.99), (0.2, 0.999999),
+                                       (0.003, 0.7), (0.5, 0.75)])
+def test_min_episodes_without_failures_is_exact(eps, conf):
+    assert bounds.min_episodes(eps, conf) == exact_min_episodes(eps, conf)
+
+
+@settings(max_examples=60, deadline=None)
+@given(eps=st.floats(1e-3, 0.6), conf=st.floats(0.01, 0.999), k=st.integers(0, 6))
+def test_min_episodes_matches_a_linear_scan(eps, conf, k):
+    n = bounds.min_episodes(eps, conf, k)
+    scan = k + 1
+    while bounds.confidence(scan, k, eps) < conf:
+        scan += 1
+    assert n == scan
+    assert binom.sf(k, n, eps) >= conf * (1 - 1e-12)  # scipy agrees, independently
+
+
+# --------------------------------------------------------------------------- 7. floor, not round
+
+
+def test_floor_str_rounds_down():
+    assert bounds.floor_str(0.9499958) == "0.94999"
+    assert bounds.floor_str(1 - 0.95 ** 2000) == "0.99999"  # 1.0 in floating point
+    assert bounds.floor_str(0.999995) == "0.99999"
+    assert bounds.floor_str(0.99408) == "0.99408"
+    assert bounds.floor_str(0.0) == "0.00000"
+    assert bounds.one_minus_str(0.05) == "0.95"
+    assert bounds.one_minus_str(1e-7) == "0.9999999"
+
+
+def campaign_report(n: int, failures: int, epsilon: float = 0.05, delta: float = 0.05) -> dict:
+    config = CampaignConfig(GRID, "explore_until_goal", n, epsilon, delta)
+    results = [EpisodeResult(i, i, -1 if i < failures else 1, True, 3, int(i < failures),
+                             "x" if i < failures else None, 0.0) for i in range(n)]
+    return build_report(config, results, 1.0, 1)
+
+
+def test_printed_guarantees_never_claim_more_than_computed():
+    from vlb_gym.cli.verify import summary
+
+    report = campaign_report(1125, 44)
+    assert report["lower_bound"] == pytest.approx(0.9499958, abs=1e-7)
+    assert "P[success] >= 0.94999 at confidence level 0.95" in report["statement"]
+    assert "P[success] >= 0.94999 at confidence level 0.95" in summary(report)
+    report = campaign_report(2000, 0)
+    assert "with confidence 0.99999" in report["statement"]
+    assert "with confidence 0.99999" in summary(report)
+    report = campaign_report(20, 0, epsilon=1e-7)
+    assert "P[success] >= 0.9999999 with confidence" in summary(report)
+
+
+def test_plan_prints_the_reached_confidence_rounded_down(capsys):
+    assert main(["plan", "--epsilon", "0.05", "--confidence", "0.95"]) == 0
+    out = capsys.readouterr().out  # 59 episodes reach 0.9515055
+    assert out.startswith("59 episodes") and "(reached: 0.95150)" in out
+
+
