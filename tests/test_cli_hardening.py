@@ -52,6 +52,74 @@ def one_line_error(capsys, *words: str) -> str:
     return err
 
 
+# --------------------------------------------------------------------------- 2. env settings
+
+
+@pytest.mark.parametrize("kwarg, message", [
+    ("n_obstacles=200", "do not fit"),
+    ("n_goals=2.5", "n_goals must be an integer"),
+    ("n_goals=true", "n_goals must be an integer"),
+    ("action_noise=Infinity", "action_noise must be finite"),
+    ("render_mode=human", "render_mode"),
+    ("size=100000", "size must be >= 2 and <= 64"),
+    ("max_episode_steps=0", "max_episode_steps must be a positive integer"),
+    ("colour=3", "unexpected keyword argument 'colour'"),
+])
+def test_impossible_env_settings_are_usage_errors(kwarg, message, tmp_path, capsys):
+    report = tmp_path / "report.json"
+    assert verify("--env-kwarg", kwarg, "--report", str(report)) == 2
+    err = one_line_error(capsys, message)
+    assert "was raised from the environment creator" not in err
+    assert not report.exists()
+
+
+def test_only_vlb_environments_are_accepted(capsys):
+    assert main(["verify", "CartPole-v1", "--behavior", "explore_until_goal", "--episodes", "3",
+                 "--epsilon", "0.1"]) == 2
+    one_line_error(capsys, "unknown environment 'CartPole-v1'", "VLB-GridExplore-v0")
+
+
+@pytest.mark.parametrize("kwargs, error, message", [
+    ({"size": 10.0}, TypeError, "size must be an integer"),
+    ({"size": True}, TypeError, "size must be an integer"),
+    ({"size": 65}, ValueError, "size must be >= 2 and <= 64"),
+    ({"n_obstacles": -1}, ValueError, "n_obstacles must be >= 0"),
+    ({"n_goals": 0}, ValueError, "n_goals must be >= 1"),
+    ({"n_obstacles": 97, "n_goals": 3}, ValueError, "do not fit"),
+    ({"action_noise": float("nan")}, ValueError, "action_noise must be finite"),
+    ({"action_noise": 1e300}, ValueError, "action_noise must be >= 0.0 and <= 100.0"),
+    ({"action_noise": "0.5"}, TypeError, "action_noise must be a number"),
+])
+def test_grid_constructor_checks_its_arguments(kwargs, error, message):
+    with pytest.raises(error, match=message):
+        GridExploreEnv(**kwargs)
+
+
+def test_grid_too_crowded_to_sample_is_a_value_error():
+    with pytest.raises(ValueError, match="too crowded"):
+        GridExploreEnv(size=64, n_obstacles=4000, n_goals=1).reset(seed=0)
+
+
+@pytest.mark.parametrize("kwargs, error, message", [
+    ({"placement_noise": -0.01}, ValueError, "placement_noise"),
+    ({"placement_noise": 0.5}, ValueError, "placement_noise must be >= 0.0 and <= 0.04"),
+    ({"yaw_noise_deg": float("inf")}, ValueError, "yaw_noise_deg must be finite"),
+    ({"grain_counts": 260}, TypeError, "grain_counts must be a non-empty list"),
+    ({"grain_counts": []}, TypeError, "grain_counts must be a non-empty list"),
+    ({"grain_counts": [260.5]}, TypeError, "grain_counts must be an integer"),
+    ({"grain_counts": [100_000]}, ValueError, "grain_counts must be >= 1 and <= 350"),
+    ({"delivered_threshold_g": float("nan")}, ValueError, "delivered_threshold_g"),
+    ({"width": 4096}, ValueError, "width must be >= 1 and <= 640"),
+    ({"height": 2.5}, TypeError, "height must be an integer"),
+])
+def test_scoop_constructor_checks_its_arguments(kwargs, error, message):
+    pytest.importorskip("mujoco")
+    from vlb_gym.envs.scoop import ScoopEnv
+
+    with pytest.raises(error, match=message):
+        ScoopEnv(**kwargs)
+
+
 # --------------------------------------------------------------------------- 6. min_episodes
 
 

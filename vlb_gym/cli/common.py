@@ -43,6 +43,9 @@ def env_kwargs(pairs: list[str]) -> dict[str, Any]:
         key, sep, value = pair.partition("=")
         if not sep or not key.isidentifier():
             raise UsageError(f"--env-kwarg {pair!r}: expected NAME=VALUE, e.g. action_noise=0.5")
+        if key == "render_mode":
+            raise UsageError("--env-kwarg render_mode: vlb chooses the render mode itself "
+                             "('vlb render' films an episode)")
         try:
             kwargs[key] = json.loads(value)
         except json.JSONDecodeError:
@@ -51,15 +54,26 @@ def env_kwargs(pairs: list[str]) -> dict[str, Any]:
 
 
 def check_env(env_id: str, kwargs: dict[str, Any]) -> None:
-    if env_id not in gym.registry:
-        known = ", ".join(vlb_gym.ENV_IDS)
-        raise UsageError(f"unknown environment {env_id!r} (vlb-gym registers: {known})")
+    """Refuse env ids that vlb-gym does not register and settings the env refuses: it is made
+    and reset once here, so that impossible settings fail now, not in every episode."""
+    if env_id not in vlb_gym.ENV_IDS:
+        raise UsageError(f"unknown environment {env_id!r} (vlb-gym registers: "
+                         f"{', '.join(vlb_gym.ENV_IDS)})")
+    steps = kwargs.get("max_episode_steps", 1)
+    if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
+        raise UsageError(f"{env_id}: max_episode_steps must be a positive integer (got {steps!r})")
     try:
-        gym.make(env_id, **kwargs).close()
+        env = gym.make(env_id, **kwargs)
+        try:
+            env.reset(seed=0)
+        finally:
+            env.close()
     except ImportError as exc:
         raise UsageError(str(exc)) from None
     except (TypeError, ValueError) as exc:
-        raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {exc}") from None
+        # gym.make appends "was raised from the environment creator ..." to a TypeError
+        message = str(exc).split(" was raised from the environment creator")[0]
+        raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {message}") from None
 
 
 def add_env_kwarg(p: argparse.ArgumentParser) -> None:
