@@ -120,6 +120,49 @@ def test_scoop_constructor_checks_its_arguments(kwargs, error, message):
         ScoopEnv(**kwargs)
 
 
+# --------------------------------------------------------------------------- 3. input files
+
+
+@pytest.mark.parametrize("scripted", ["/dev/null", "no-such-replies.json"])
+def test_unreadable_scripted_replies_are_usage_errors(scripted, capsys):
+    assert main(["synthesize", GRID, "explore", "--scripted", scripted]) == 2
+    one_line_error(capsys, "vlb synthesize: error:", scripted)
+
+
+def write_agent(tmp_path: Path, metadata: str | bytes | None) -> Path:
+    agent = tmp_path / "agent.zip"
+    agent.write_bytes(b"")
+    if metadata is not None:
+        meta = agent.with_suffix(".json")
+        meta.write_bytes(metadata if isinstance(metadata, bytes) else metadata.encode())
+    return agent
+
+
+@pytest.mark.parametrize("metadata, message", [
+    (None, "cannot read the agent's metadata"),
+    ('{"algorithm": "ppo", "env_kwargs": {}}', "needs 'env_id'"),
+    ('{"algorithm": "ppo", "env_id": "VLB-GridExplore-v0"}', "needs 'env_kwargs'"),
+    ('{"algorithm": "ppo", "env_id": "x", "env_kwargs": []}', "needs 'env_kwargs'"),
+    ('{"algorithm": "dqn", "env_id": "x", "env_kwargs": {}}', "unknown algorithm"),
+    ('["ppo"]', "not a JSON object"),
+    ('{"algorithm": ', "not JSON"),
+    ("[" * 1000 + "]" * 1000, "nested deeper"),
+    (b" " * 2_000_000, "the limit is"),
+])
+def test_bad_agent_metadata_is_a_usage_error(metadata, message, tmp_path, capsys):
+    agent = write_agent(tmp_path, metadata)
+    assert main(["verify", GRID, "--policy", str(agent), "--episodes", "3",
+                 "--epsilon", "0.1"]) == 2
+    one_line_error(capsys, "agent.json", message)
+
+
+def test_policy_help_warns_that_loading_runs_code(capsys):
+    with pytest.raises(SystemExit):
+        main(["verify", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "Loading it runs code from the file (pickle): load only agents you trust" in out
+
+
 # --------------------------------------------------------------------------- 6. min_episodes
 
 
@@ -213,3 +256,24 @@ def test_plan_prints_the_reached_confidence_rounded_down(capsys):
     assert out.startswith("59 episodes") and "(reached: 0.95150)" in out
 
 
+# --------------------------------------------------------------------------- 9. user errors
+
+
+@pytest.mark.parametrize("args", [
+    ["verify", "CartPole-v1", "--behavior", "explore_until_goal", "--episodes", "3",
+     "--epsilon", "0.1"],
+    ["verify", GRID, "--behavior", "explore_until_goal", "--episodes", "3", "--epsilon", "0.1",
+     "--env-kwarg", "size=100000"],
+    ["verify", GRID, "--behavior", str(EXAMPLES / "nope.json"), "--episodes", "3",
+     "--epsilon", "0.1"],
+    ["verify", GRID, "--behavior", "explore_until_goal", "--episodes", "many", "--epsilon", "0.1"],
+    ["synthesize", GRID, "explore", "--scripted", "/dev/null"],
+    ["verify", GRID, "--policy", "no-such-agent.zip", "--episodes", "3", "--epsilon", "0.1"],
+])
+def test_user_errors_are_one_line_without_traceback(args):
+    proc = subprocess.run([sys.executable, "-m", "vlb_gym.cli", *args], capture_output=True,
+                          text=True, timeout=60)
+    assert proc.returncode == 2
+    assert proc.stderr.startswith(f"vlb {args[0]}: error: ") and proc.stderr.count("\n") == 1, \
+        proc.stderr
+    assert "Traceback" not in proc.stderr

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 import json
-from typing import Any
+import math
+from typing import Any, NoReturn
 
 import gymnasium as gym
 
@@ -15,6 +16,13 @@ class UsageError(Exception):
     """Bad input from the command line; printed without a traceback, exit code 2."""
 
 
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line, like every other error of ``vlb``."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
 def probability(text: str) -> float:
     try:
         value = float(text)
@@ -22,6 +30,16 @@ def probability(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
     if not 0 < value < 1:
         raise argparse.ArgumentTypeError(f"{text} must lie strictly between 0 and 1")
+    return value
+
+
+def seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text} must be a positive number of seconds")
     return value
 
 
@@ -89,7 +107,7 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
                    help="environment variable holding the API key (default OPENAI_API_KEY)")
     p.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
                    default="json_schema", help="what the server supports (default json_schema)")
-    p.add_argument("--timeout", type=float, default=60.0, help="seconds per request")
+    p.add_argument("--timeout", type=seconds, default=60.0, help="seconds per request")
     p.add_argument("--retries", type=count(0), default=3, help="retries per request")
     p.add_argument("--scripted", metavar="FILE",
                    help="canned replies (a JSON list) instead of a live model")

@@ -172,8 +172,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     chosen.add_argument("--behavior", metavar="NAME_OR_FILE",
                         help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
     chosen.add_argument("--policy", metavar="AGENT.zip",
-                        help="a trained agent ('vlb baseline train'); its training env kwargs "
-                        "apply, --env-kwarg may add to them")
+                        help="a trained agent ('vlb baseline train', a Stable-Baselines3 zip "
+                        "with AGENT.json beside it); its training env kwargs apply, --env-kwarg "
+                        "may add to them. Loading it runs code from the file (pickle): load only "
+                        "agents you trust")
     v.add_argument("--episodes", required=True, type=count(1), metavar="N")
     v.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
                    help="the claim is P[success] >= 1 - EPS")
