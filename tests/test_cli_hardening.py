@@ -52,6 +52,101 @@ def one_line_error(capsys, *words: str) -> str:
     return err
 
 
+# --------------------------------------------------------------------------- 1. output paths
+
+
+@pytest.mark.parametrize("option", ["--report", "--episodes-out"])
+def test_an_output_naming_the_behavior_file_is_refused(option, behavior, capsys):
+    before = behavior.read_bytes()
+    assert verify(option, str(behavior), behavior=behavior) == 2
+    one_line_error(capsys, option, "is an input of this command")
+    assert behavior.read_bytes() == before
+
+
+def test_an_output_naming_the_behavior_file_through_another_path_is_refused(behavior, capsys):
+    link = behavior.parent / "link.json"
+    os.link(behavior, link)
+    before = behavior.read_bytes()
+    assert verify("--report", str(link), behavior=behavior) == 2
+    one_line_error(capsys, "is an input of this command")
+    assert behavior.read_bytes() == before
+
+
+def test_an_existing_episodes_out_needs_force(tmp_path, capsys):
+    stream = tmp_path / "episodes.jsonl"
+    stream.write_text("precious\n")
+    assert verify("--episodes-out", str(stream)) == 2
+    one_line_error(capsys, "exists already", "--force")
+    assert stream.read_text() == "precious\n"
+    assert verify("--episodes-out", str(stream), "--force") == 0
+    assert [json.loads(line)["index"] for line in stream.read_text().splitlines()] == [0, 1, 2]
+
+
+def test_an_existing_report_is_replaced(tmp_path):
+    report = tmp_path / "report.json"
+    report.write_text("old\n")
+    assert verify("--report", str(report)) == 0
+    assert json.loads(report.read_text())["episodes"] == 3
+
+
+@pytest.mark.parametrize("where, message", [
+    (lambda tmp: tmp, "is a directory"),
+    (lambda tmp: tmp / "file.txt" / "report.json", "is not a directory"),
+    (lambda tmp: Path("/dev/null"), "not a regular file"),
+])
+def test_an_unusable_report_path_fails_before_the_campaign(where, message, tmp_path, capsys):
+    (tmp_path / "file.txt").write_text("")
+    stream = tmp_path / "episodes.jsonl"
+    assert verify("--report", str(where(tmp_path)), "--episodes-out", str(stream),
+                  episodes=100_000) == 2  # fails at once: no episode ran
+    one_line_error(capsys, "--report", message)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file.txt"]  # no stream, no tmp file
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root may write anywhere")
+def test_an_unwritable_report_directory_fails_before_the_campaign(tmp_path, capsys):
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    assert verify("--report", str(locked / "sub" / "report.json"), episodes=100_000) == 2
+    one_line_error(capsys, "permission denied")
+
+
+def test_report_and_episodes_out_must_differ(tmp_path, capsys):
+    path = tmp_path / "out.json"
+    assert verify("--report", str(path), "--episodes-out", str(path)) == 2
+    one_line_error(capsys, "the same file")
+    assert not path.exists()
+
+
+def test_check_output():
+    check = common.check_output
+    assert check("new/dir/file.json", [], False, "--out") == Path("new/dir/file.json")
+    with pytest.raises(common.UsageError, match="--out .*: is an input"):
+        check(__file__, [None, Path(__file__)], True, "--out")
+    with pytest.raises(common.UsageError, match="exists already"):
+        check(__file__, [], False, "--out")
+
+
+def test_render_out_is_checked_before_the_episode(behavior, tmp_path, capsys):
+    before = behavior.read_bytes()
+    assert main(["render", GRID, "--behavior", str(behavior), "--out", str(behavior)]) == 2
+    one_line_error(capsys, "--out", "is an input")
+    assert behavior.read_bytes() == before
+    assert main(["render", GRID, "--behavior", str(behavior), "--out", str(tmp_path)]) == 2
+    one_line_error(capsys, "is a directory")
+
+
+def test_synthesize_out_may_not_overwrite_its_inputs(tmp_path, capsys):
+    replies = tmp_path / "replies.json"
+    shutil.copy(Path(__file__).resolve().parent.parent / "vlb_gym" / "abstractor" / "paper"
+                / "behavior1.replies.json", replies)
+    before = replies.read_bytes()
+    assert main(["synthesize", GRID, "explore until a goal is found", "--scripted",
+                 str(replies), "--out", str(replies), "--force"]) == 2
+    one_line_error(capsys, "is an input")
+    assert replies.read_bytes() == before
+
+
 # --------------------------------------------------------------------------- 2. env settings
 
 

@@ -1,15 +1,20 @@
-"""What every ``vlb`` command shares: argument types, env checks, the usage error."""
+"""What every ``vlb`` command shares: argument types, env and output checks, the usage error."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import math
+import os
+import tempfile
+from collections.abc import Iterable
+from pathlib import Path
 from typing import Any, NoReturn
 
 import gymnasium as gym
 
 import vlb_gym
+from vlb_gym.core.behavior import CompiledBehavior
 
 
 class UsageError(Exception):
@@ -92,6 +97,66 @@ def check_env(env_id: str, kwargs: dict[str, Any]) -> None:
         # gym.make appends "was raised from the environment creator ..." to a TypeError
         message = str(exc).split(" was raised from the environment creator")[0]
         raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {message}") from None
+
+
+def behavior_files(compiled: CompiledBehavior) -> list[Path]:
+    """The files a compiled behavior was read from, its sub-behaviors' included (shipped
+    behaviors have a bare name as source and are no file of the user's)."""
+    files = [Path(compiled.source)] if Path(compiled.source).is_absolute() else []
+    for node in compiled.nodes.values():
+        if node.child is not None:
+            files += behavior_files(node.child)
+    return files
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    if a.resolve() == b.resolve():
+        return True
+    try:
+        return os.path.samefile(a, b)  # hard links
+    except OSError:  # one of them does not exist (yet)
+        return False
+
+
+def check_output(path: str, inputs: Iterable[str | os.PathLike[str] | None], force: bool,
+                 option_name: str) -> Path:
+    """``path`` if a command may write it; checked before any work, so that a bad output path
+    never costs a campaign. Refused: a directory or other non-regular file, an existing file
+    unless ``force``, a path that is one of ``inputs`` (None entries are skipped), and a path whose
+    directory is missing and cannot be made, or cannot be written."""
+    out = Path(path)
+    where = f"{option_name} {path}"
+    for source in inputs:
+        if source is not None and _same_file(out, Path(source)):
+            raise UsageError(f"{where}: is an input of this command ({source}); "
+                             "choose another path")
+    if out.exists() and not out.is_file():
+        raise UsageError(f"{where}: is a directory" if out.is_dir() else
+                         f"{where}: not a regular file")
+    if out.exists() and not force:
+        raise UsageError(f"{where}: exists already (use --force to replace it)")
+    folder = out.absolute().parent
+    while not folder.exists():  # the nearest existing folder: the missing ones are made there
+        folder = folder.parent
+    if not folder.is_dir():
+        raise UsageError(f"{where}: {folder} is not a directory")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise UsageError(f"{where}: cannot write in {folder}: permission denied")
+    return out
+
+
+def write_bytes_atomic(path: Path, data: bytes) -> None:
+    """Binary counterpart of :func:`vlb_gym.core.files.write_atomic`: readers see the old file or
+    the whole new one, and a failed write leaves nothing behind."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
 
 
 def add_env_kwarg(p: argparse.ArgumentParser) -> None:

@@ -14,7 +14,7 @@ from vlb_gym.core.files import read_limited, write_atomic
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
-from .common import UsageError, add_model_options, check_env, count, probability
+from .common import UsageError, add_model_options, check_env, check_output, count, probability
 from .library import graph_text
 from .verify import summary
 
@@ -51,6 +51,10 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
     check_env(args.env_id, {})
     backend = backend_from_args(args)
     library = BehaviorLibrary()
+    if args.out:  # checked before the model is asked; the transcript goes beside the behavior
+        inputs = (args.info, args.scripted, args.replay_transcript)
+        check_output(args.out, inputs, args.force, "--out")
+        check_output(str(Path(args.out).with_suffix(".transcript.json")), inputs, True, "--out")
     info = ""
     if args.info:
         try:

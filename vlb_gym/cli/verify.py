@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import sys
-from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -18,13 +18,14 @@ from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_cam
 from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
 
-from .common import UsageError, add_env_kwarg, check_env, count, env_kwargs, probability
+from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check_output,
+                     count, env_kwargs, probability, write_bytes_atomic)
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
     kwargs = env_kwargs(args.env_kwarg)
     if args.policy:
-        from vlb_gym.baselines.train import policy_env_kwargs
+        from vlb_gym.baselines.train import agent_files, policy_env_kwargs
         try:
             env_id, trained = policy_env_kwargs(args.policy)
         except ValueError as exc:
@@ -36,8 +37,19 @@ def cmd_verify(args: argparse.Namespace) -> int:
     config = CampaignConfig(args.env_id, args.policy or args.behavior, args.episodes,
                             args.epsilon, args.delta, args.seed, kwargs,
                             stop_on_failure=not args.keep_going, policy=bool(args.policy))
-    build(config)[0].close()  # compile the behavior here, so a bad file fails before any episode
-    stream = open(args.episodes_out, "w") if args.episodes_out else None
+    env, policy = build(config)  # compile the behavior here: a bad file fails before any episode
+    env.close()
+    inputs = agent_files(args.policy) if args.policy else behavior_files(policy.behavior)
+    episodes_out = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
+                    if args.episodes_out else None)
+    # a report is replaced without --force: atomically, once the campaign is done
+    report_out = (check_output(args.report, inputs, True, "--report") if args.report else None)
+    if report_out and episodes_out and report_out.resolve() == episodes_out.resolve():
+        raise UsageError("--report and --episodes-out name the same file")
+    stream = None
+    if episodes_out:
+        episodes_out.parent.mkdir(parents=True, exist_ok=True)
+        stream = open(episodes_out, "w" if args.force else "x")
     bar = None
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm
@@ -57,8 +69,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
             bar.close()
         if stream:
             stream.close()
-    if args.report:
-        write_atomic(Path(args.report), json.dumps(report, indent=2) + "\n")
+    if report_out:
+        write_atomic(report_out, json.dumps(report, indent=2) + "\n")
     print(summary(report, args.report))
     return 0
 
@@ -131,6 +143,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"})
     env = RobustnessWrapper(gym.make(args.env_id, render_mode="rgb_array", **kwargs))
     policy = load_behavior(args.behavior, env)
+    out = check_output(args.out, behavior_files(policy.behavior), True, "--out")
     recorder = env.unwrapped
     continuous = hasattr(recorder, "frames")  # envs that film their primitives as they run
     frames: list[np.ndarray] = []
@@ -152,10 +165,10 @@ def cmd_render(args: argparse.Namespace) -> int:
         frames = frames[::stride]
     frames.append(env.render())
     images = [Image.fromarray(frame) for frame in frames]
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / args.fps),
-                   loop=0)
+    gif = io.BytesIO()
+    images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],
+                   duration=int(1000 / args.fps), loop=0)
+    write_bytes_atomic(out, gif.getvalue())
     print(f"rho_B = {result.rho:+d}; wrote {len(images)} frames to {out}")
     env.close()
     return 0
@@ -183,9 +196,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="lower bound at confidence level 1 - DELTA (default 0.05)")
     v.add_argument("--seed", type=count(0), default=0, help="campaign seed (default 0)")
     v.add_argument("--workers", type=count(1), default=1, help="processes (default 1)")
-    v.add_argument("--report", metavar="PATH", help="write the JSON report here")
+    v.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
+                   "campaign is done (replacing the file, atomically, if it exists)")
     v.add_argument("--episodes-out", metavar="PATH",
                    help="stream one JSON line per episode here as episodes finish")
+    v.add_argument("--force", action="store_true", help="replace an existing --episodes-out")
     v.add_argument("--keep-going", action="store_true",
                    help="run each episode to its end even after a certificate failed")
     v.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -221,7 +236,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     w.add_argument("env_id", metavar="ENV_ID")
     w.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
     w.add_argument("--seed", type=count(0), default=0)
-    w.add_argument("--out", required=True, metavar="FILE.gif")
+    w.add_argument("--out", required=True, metavar="FILE.gif",
+                   help="the animation (replaced, atomically, if it exists)")
     w.add_argument("--fps", type=count(1), default=10)
     add_env_kwarg(w)
     w.set_defaults(func=cmd_render)
