@@ -258,6 +258,68 @@ def test_policy_help_warns_that_loading_runs_code(capsys):
     assert "Loading it runs code from the file (pickle): load only agents you trust" in out
 
 
+# --------------------------------------------------------------------------- 4. Ctrl-C
+
+
+@pytest.mark.timeout(60)
+def test_ctrl_c_keeps_the_episodes_and_prints_one_line(tmp_path):
+    stream = tmp_path / "episodes.jsonl"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "vlb_gym.cli", "verify", GRID, "--behavior",
+         "find_goal_and_oscillate", "--episodes", "100000", "--epsilon", "0.05", "--workers", "2",
+         "--episodes-out", str(stream)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        # a process group of its own, as a shell job has, with Ctrl-C's default handling even
+        # when this test runs in the background (where SIGINT is ignored and that is inherited)
+        start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        deadline = time.monotonic() + 40
+        while not (stream.exists() and stream.stat().st_size > 2000):
+            assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
+            time.sleep(0.05)
+        os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C in a terminal does
+        out, err = proc.communicate(timeout=15)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    lines = stream.read_text().splitlines()
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and err.count("\n") == 1, err
+    assert err == f"vlb verify: interrupted; {len(lines)} episode(s) written to {stream}\n"
+    assert 0 < len(lines) < 100000
+    assert all(json.loads(line)["rho"] == 1 for line in lines)
+
+
+def test_ctrl_c_in_any_command_is_one_line(monkeypatch, capsys):
+    def interrupted(*args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(bounds, "min_episodes", interrupted)
+    try:
+        code = main(["plan", "--epsilon", "0.05", "--confidence", "0.95"])
+    except KeyboardInterrupt:  # would end the test session
+        pytest.fail("KeyboardInterrupt escaped main()")
+    assert code == 130
+    assert capsys.readouterr().err == "vlb plan: interrupted\n"
+
+
+# --------------------------------------------------------------------------- 5. workers
+
+
+@pytest.mark.parametrize("cpus, workers, episodes, expected, reason", [
+    (2, 1000, 3, 2, "2 CPU(s) available"),
+    (8, 4, 1, 1, "1 episode(s)"),
+])
+def test_workers_are_clamped_with_a_note(cpus, workers, episodes, expected, reason, tmp_path,
+                                         monkeypatch, capsys):
+    monkeypatch.setattr(common, "available_cpus", lambda: cpus)
+    report = tmp_path / "report.json"
+    assert verify("--workers", str(workers), "--report", str(report), episodes=episodes) == 0
+    assert capsys.readouterr().err == (f"vlb verify: note: --workers {workers} reduced to "
+                                       f"{expected} ({reason})\n")
+    assert json.loads(report.read_text())["workers"] == expected
+
+
 # --------------------------------------------------------------------------- 6. min_episodes
 
 

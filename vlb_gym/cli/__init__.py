@@ -26,13 +26,17 @@ def parser() -> Parser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run one command; user errors (bad arguments, unreadable or invalid files, impossible
-    settings) are one line ``vlb COMMAND: error: ...`` on stderr and exit code 2."""
+    settings) are one line ``vlb COMMAND: error: ...`` on stderr and exit code 2, Ctrl-C is
+    ``vlb COMMAND: interrupted`` and exit code 130."""
     args = parser().parse_args(argv)
     try:
         return args.func(args)
     except BrokenPipeError:  # the reader went away (``vlb ... | head``): not an error of ours
         sys.stdout = open(os.devnull, "w")
         return 0
+    except KeyboardInterrupt:
+        print(f"vlb {args.command}: interrupted", file=sys.stderr)
+        return 130
     except (UsageError, BehaviorSpecError, OSError, ValueError, ImportError) as exc:
         # InputFileError (an unusable input file) is a ValueError
         print(f"vlb {args.command}: error: {exc}", file=sys.stderr)

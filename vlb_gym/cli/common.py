@@ -6,6 +6,7 @@ import argparse
 import json
 import math
 import os
+import sys
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
@@ -157,6 +158,24 @@ def write_bytes_atomic(path: Path, data: bytes) -> None:
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def available_cpus() -> int:
+    """CPUs this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+def clamp_workers(requested: int, episodes: int, command: str) -> int:
+    """At most one worker process per available CPU and per episode; a note when reduced."""
+    cpus = available_cpus()
+    workers = min(requested, cpus, episodes)
+    if workers < requested:
+        reason = f"{cpus} CPU(s) available" if workers == cpus else f"{episodes} episode(s)"
+        print(f"vlb {command}: note: --workers {requested} reduced to {workers} ({reason})",
+              file=sys.stderr)
+    return workers
 
 
 def add_env_kwarg(p: argparse.ArgumentParser) -> None:

@@ -19,7 +19,7 @@ from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
 
 from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check_output,
-                     count, env_kwargs, probability, write_bytes_atomic)
+                     clamp_workers, count, env_kwargs, probability, write_bytes_atomic)
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
@@ -46,6 +46,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     report_out = (check_output(args.report, inputs, True, "--report") if args.report else None)
     if report_out and episodes_out and report_out.resolve() == episodes_out.resolve():
         raise UsageError("--report and --episodes-out name the same file")
+    workers = clamp_workers(args.workers, args.episodes, "verify")
     stream = None
     if episodes_out:
         episodes_out.parent.mkdir(parents=True, exist_ok=True)
@@ -54,21 +55,31 @@ def cmd_verify(args: argparse.Namespace) -> int:
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm
         bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
+    written = 0
 
     def on_episode(result):
+        nonlocal written
         if stream:
             stream.write(json.dumps(result.to_dict()) + "\n")
             stream.flush()
+            written += 1
         if bar:
             bar.update()
 
+    report = None
     try:
-        report = run_campaign(config, args.workers, on_episode)
+        report = run_campaign(config, workers, on_episode)
+    except KeyboardInterrupt:  # the pool's workers ignore Ctrl-C; leaving run_campaign ends them
+        pass
     finally:
         if bar:
             bar.close()
         if stream:
             stream.close()
+    if report is None:
+        kept = f"; {written} episode(s) written to {episodes_out}" if stream else ""
+        print(f"vlb verify: interrupted{kept}", file=sys.stderr)
+        return 130
     if report_out:
         write_atomic(report_out, json.dumps(report, indent=2) + "\n")
     print(summary(report, args.report))
@@ -195,11 +206,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     v.add_argument("--delta", type=probability, default=0.05,
                    help="lower bound at confidence level 1 - DELTA (default 0.05)")
     v.add_argument("--seed", type=count(0), default=0, help="campaign seed (default 0)")
-    v.add_argument("--workers", type=count(1), default=1, help="processes (default 1)")
+    v.add_argument("--workers", type=count(1), default=1,
+                   help="processes (default 1; at most one per CPU and per episode)")
     v.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
                    "campaign is done (replacing the file, atomically, if it exists)")
     v.add_argument("--episodes-out", metavar="PATH",
-                   help="stream one JSON line per episode here as episodes finish")
+                   help="stream one JSON line per episode here as episodes finish; kept if the "
+                   "campaign is interrupted (Ctrl-C: exit code 130)")
     v.add_argument("--force", action="store_true", help="replace an existing --episodes-out")
     v.add_argument("--keep-going", action="store_true",
                    help="run each episode to its end even after a certificate failed")
