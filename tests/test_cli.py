@@ -35,7 +35,7 @@ def test_verify_paper_campaign_with_report(tmp_path):
     out = vlb("verify", "VLB-GridExplore-v0", "--behavior", "find_goal_and_oscillate",
               "--episodes", "100", "--epsilon", "0.05", "--report", str(report_path),
               "--episodes-out", str(stream)).stdout
-    assert "successes 100/100" in out and "confidence 0.99408" in out
+    assert "successes 100/100" in out and "confidence 0.99407" in out  # 0.9940795, floored
     report = json.loads(report_path.read_text())
     assert report["episodes"] == 100 and report["failures"] == 0 and report["seed"] == 0
     lines = [json.loads(line) for line in stream.read_text().splitlines()]

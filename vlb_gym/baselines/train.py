@@ -16,6 +16,7 @@ import gymnasium as gym
 import numpy as np
 
 import vlb_gym  # noqa: F401 - registers the envs
+from vlb_gym.core.files import load_json, read_limited
 
 from .configs import ALGORITHMS, TaskConfig
 from .wrappers import FlatActions
@@ -89,13 +90,8 @@ class SB3Policy:
     finished = False
 
     def __init__(self, path: str | Path, env: gym.Env):
-        path = Path(path)
-        zip_path = path if path.suffix == ".zip" else path.with_suffix(".zip")
-        meta_path = zip_path.with_suffix(".json")
-        try:
-            self.meta = json.loads(meta_path.read_text())
-        except (OSError, ValueError) as exc:
-            raise ValueError(f"{meta_path}: cannot read the agent's metadata: {exc}") from None
+        zip_path, _ = agent_files(path)
+        self.meta = load_metadata(path)
         if not zip_path.is_file():
             raise ValueError(f"{zip_path}: no such saved agent")
         self.model = _algorithm(self.meta["algorithm"]).load(zip_path, device="cpu")
@@ -118,12 +114,35 @@ class SB3Policy:
         return action, None
 
 
+def agent_files(path: str | Path) -> tuple[Path, Path]:
+    """The saved agent ``NAME.zip`` and its metadata ``NAME.json``, given either (or ``NAME``)."""
+    path = Path(path)
+    zip_path = path if path.suffix == ".zip" else path.with_suffix(".zip")
+    return zip_path, zip_path.with_suffix(".json")
+
+
+def load_metadata(path: str | Path) -> dict[str, Any]:
+    """An agent's metadata, checked: ``algorithm`` one of ours, ``env_id`` a string and
+    ``env_kwargs`` an object; ``ValueError`` naming the file otherwise."""
+    meta_path = agent_files(path)[1]
+    text = read_limited(meta_path, what="the agent's metadata")
+    try:
+        meta = load_json(text, str(meta_path))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{meta_path}: the agent's metadata is not JSON: {exc}") from None
+    if not isinstance(meta, dict):
+        raise ValueError(f"{meta_path}: the agent's metadata is not a JSON object")
+    for key, kind in (("algorithm", str), ("env_id", str), ("env_kwargs", dict)):
+        if not isinstance(meta.get(key), kind):
+            raise ValueError(f"{meta_path}: the agent's metadata needs {key!r} "
+                             f"({'an object' if kind is dict else 'a string'})")
+    if meta["algorithm"] not in ALGORITHMS:
+        raise ValueError(f"{meta_path}: unknown algorithm {meta['algorithm']!r}; "
+                         f"expected one of {ALGORITHMS}")
+    return meta
+
+
 def policy_env_kwargs(path: str | Path) -> tuple[str, dict[str, Any]]:
     """The env id and kwargs an agent was trained on (from its metadata)."""
-    path = Path(path)
-    meta_path = (path if path.suffix == ".zip" else path.with_suffix(".zip")).with_suffix(".json")
-    try:
-        meta = json.loads(meta_path.read_text())
-    except (OSError, ValueError) as exc:
-        raise ValueError(f"{meta_path}: cannot read the agent's metadata: {exc}") from None
+    meta = load_metadata(path)
     return meta["env_id"], dict(meta["env_kwargs"])

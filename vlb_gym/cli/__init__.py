@@ -3,7 +3,6 @@ episodes, synthesize behaviors from language, train and compare baselines."""
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 
@@ -11,11 +10,11 @@ import vlb_gym
 from vlb_gym.core.spec import BehaviorSpecError
 
 from . import baselines, language, library, verify
-from .common import UsageError
+from .common import Parser, UsageError
 
 
-def parser() -> argparse.ArgumentParser:
-    top = argparse.ArgumentParser(
+def parser() -> Parser:
+    top = Parser(
         prog="vlb", description="Verifiable behaviors from motion primitives: run campaigns of "
         "i.i.d. episodes and turn them into probabilistic guarantees.")
     top.add_argument("--version", action="version", version=f"vlb-gym {vlb_gym.__version__}")
@@ -26,12 +25,19 @@ def parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command; user errors (bad arguments, unreadable or invalid files, impossible
+    settings) are one line ``vlb COMMAND: error: ...`` on stderr and exit code 2, Ctrl-C is
+    ``vlb COMMAND: interrupted`` and exit code 130."""
     args = parser().parse_args(argv)
     try:
         return args.func(args)
     except BrokenPipeError:  # the reader went away (``vlb ... | head``): not an error of ours
         sys.stdout = open(os.devnull, "w")
         return 0
+    except KeyboardInterrupt:
+        print(f"vlb {args.command}: interrupted", file=sys.stderr)
+        return 130
     except (UsageError, BehaviorSpecError, OSError, ValueError, ImportError) as exc:
+        # InputFileError (an unusable input file) is a ValueError
         print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
         return 2

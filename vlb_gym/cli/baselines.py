@@ -6,7 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
-from .common import UsageError, count
+from .common import UsageError, clamp_workers, count
 
 
 def cmd_baseline_train(args: argparse.Namespace) -> int:
@@ -31,8 +31,9 @@ def cmd_bench_compare(args: argparse.Namespace) -> int:
     from vlb_gym.baselines.compare import compare
 
     started = time.perf_counter()
+    workers = clamp_workers(args.workers, args.episodes, "bench compare")
     compare(Path(args.out), tuple(args.tasks), args.episodes, args.seed, tuple(args.algos),
-            tuple(args.budgets) if args.budgets else None, args.n_envs, args.workers)
+            tuple(args.budgets) if args.budgets else None, args.n_envs, workers)
     print(f"wrote {args.out}/compare.md and compare.png in {time.perf_counter() - started:.0f} s")
     print(Path(args.out, "compare.md").read_text())
     return 0

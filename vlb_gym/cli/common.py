@@ -1,18 +1,32 @@
-"""What every ``vlb`` command shares: argument types, env checks, the usage error."""
+"""What every ``vlb`` command shares: argument types, env and output checks, the usage error."""
 
 from __future__ import annotations
 
 import argparse
 import json
-from typing import Any
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any, NoReturn
 
 import gymnasium as gym
 
 import vlb_gym
+from vlb_gym.core.behavior import CompiledBehavior
 
 
 class UsageError(Exception):
     """Bad input from the command line; printed without a traceback, exit code 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line, like every other error of ``vlb``."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
 def probability(text: str) -> float:
@@ -22,6 +36,16 @@ def probability(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
     if not 0 < value < 1:
         raise argparse.ArgumentTypeError(f"{text} must lie strictly between 0 and 1")
+    return value
+
+
+def seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text} must be a positive number of seconds")
     return value
 
 
@@ -43,6 +67,9 @@ def env_kwargs(pairs: list[str]) -> dict[str, Any]:
         key, sep, value = pair.partition("=")
         if not sep or not key.isidentifier():
             raise UsageError(f"--env-kwarg {pair!r}: expected NAME=VALUE, e.g. action_noise=0.5")
+        if key == "render_mode":
+            raise UsageError("--env-kwarg render_mode: vlb chooses the render mode itself "
+                             "('vlb render' films an episode)")
         try:
             kwargs[key] = json.loads(value)
         except json.JSONDecodeError:
@@ -51,15 +78,104 @@ def env_kwargs(pairs: list[str]) -> dict[str, Any]:
 
 
 def check_env(env_id: str, kwargs: dict[str, Any]) -> None:
-    if env_id not in gym.registry:
-        known = ", ".join(vlb_gym.ENV_IDS)
-        raise UsageError(f"unknown environment {env_id!r} (vlb-gym registers: {known})")
+    """Refuse env ids that vlb-gym does not register and settings the env refuses: it is made
+    and reset once here, so that impossible settings fail now, not in every episode."""
+    if env_id not in vlb_gym.ENV_IDS:
+        raise UsageError(f"unknown environment {env_id!r} (vlb-gym registers: "
+                         f"{', '.join(vlb_gym.ENV_IDS)})")
+    steps = kwargs.get("max_episode_steps", 1)
+    if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
+        raise UsageError(f"{env_id}: max_episode_steps must be a positive integer (got {steps!r})")
     try:
-        gym.make(env_id, **kwargs).close()
+        env = gym.make(env_id, **kwargs)
+        try:
+            env.reset(seed=0)
+        finally:
+            env.close()
     except ImportError as exc:
         raise UsageError(str(exc)) from None
     except (TypeError, ValueError) as exc:
-        raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {exc}") from None
+        # gym.make appends "was raised from the environment creator ..." to a TypeError
+        message = str(exc).split(" was raised from the environment creator")[0]
+        raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {message}") from None
+
+
+def behavior_files(compiled: CompiledBehavior) -> list[Path]:
+    """The files a compiled behavior was read from, its sub-behaviors' included (shipped
+    behaviors have a bare name as source and are no file of the user's)."""
+    files = [Path(compiled.source)] if Path(compiled.source).is_absolute() else []
+    for node in compiled.nodes.values():
+        if node.child is not None:
+            files += behavior_files(node.child)
+    return files
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    if a.resolve() == b.resolve():
+        return True
+    try:
+        return os.path.samefile(a, b)  # hard links
+    except OSError:  # one of them does not exist (yet)
+        return False
+
+
+def check_output(path: str, inputs: Iterable[str | os.PathLike[str] | None], force: bool,
+                 option_name: str) -> Path:
+    """``path`` if a command may write it; checked before any work, so that a bad output path
+    never costs a campaign. Refused: a directory or other non-regular file, an existing file
+    unless ``force``, a path that is one of ``inputs`` (None entries are skipped), and a path whose
+    directory is missing and cannot be made, or cannot be written."""
+    out = Path(path)
+    where = f"{option_name} {path}"
+    for source in inputs:
+        if source is not None and _same_file(out, Path(source)):
+            raise UsageError(f"{where}: is an input of this command ({source}); "
+                             "choose another path")
+    if out.exists() and not out.is_file():
+        raise UsageError(f"{where}: is a directory" if out.is_dir() else
+                         f"{where}: not a regular file")
+    if out.exists() and not force:
+        raise UsageError(f"{where}: exists already (use --force to replace it)")
+    folder = out.absolute().parent
+    while not folder.exists():  # the nearest existing folder: the missing ones are made there
+        folder = folder.parent
+    if not folder.is_dir():
+        raise UsageError(f"{where}: {folder} is not a directory")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise UsageError(f"{where}: cannot write in {folder}: permission denied")
+    return out
+
+
+def write_bytes_atomic(path: Path, data: bytes) -> None:
+    """Binary counterpart of :func:`vlb_gym.core.files.write_atomic`: readers see the old file or
+    the whole new one, and a failed write leaves nothing behind."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def available_cpus() -> int:
+    """CPUs this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+def clamp_workers(requested: int, episodes: int, command: str) -> int:
+    """At most one worker process per available CPU and per episode; a note when reduced."""
+    cpus = available_cpus()
+    workers = min(requested, cpus, episodes)
+    if workers < requested:
+        reason = f"{cpus} CPU(s) available" if workers == cpus else f"{episodes} episode(s)"
+        print(f"vlb {command}: note: --workers {requested} reduced to {workers} ({reason})",
+              file=sys.stderr)
+    return workers
 
 
 def add_env_kwarg(p: argparse.ArgumentParser) -> None:
@@ -75,7 +191,7 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
                    help="environment variable holding the API key (default OPENAI_API_KEY)")
     p.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
                    default="json_schema", help="what the server supports (default json_schema)")
-    p.add_argument("--timeout", type=float, default=60.0, help="seconds per request")
+    p.add_argument("--timeout", type=seconds, default=60.0, help="seconds per request")
     p.add_argument("--retries", type=count(0), default=3, help="retries per request")
     p.add_argument("--scripted", metavar="FILE",
                    help="canned replies (a JSON list) instead of a live model")

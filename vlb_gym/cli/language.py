@@ -10,11 +10,11 @@ from pathlib import Path
 import gymnasium as gym
 
 from vlb_gym.abstractor.backends import BackendError
-from vlb_gym.core.files import write_atomic
+from vlb_gym.core.files import read_limited, write_atomic
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
-from .common import UsageError, add_model_options, check_env, count, probability
+from .common import UsageError, add_model_options, check_env, check_output, count, probability
 from .library import graph_text
 from .verify import summary
 
@@ -29,10 +29,13 @@ def backend_from_args(args: argparse.Namespace):
         raise UsageError("give exactly one language model: --base-url URL (with --model), "
                          "--scripted FILE or --replay-transcript FILE"
                          + (f" (got {', '.join(chosen)})" if chosen else ""))
-    if args.scripted:
-        return ScriptedBackend.from_file(args.scripted)
-    if args.replay_transcript:
-        return TranscriptBackend.from_file(args.replay_transcript)
+    try:
+        if args.scripted:
+            return ScriptedBackend.from_file(args.scripted)
+        if args.replay_transcript:
+            return TranscriptBackend.from_file(args.replay_transcript)
+    except BackendError as exc:  # an unreadable or malformed file of replies
+        raise UsageError(str(exc)) from None
     if not args.model:
         raise UsageError("--base-url needs --model NAME")
     try:
@@ -48,12 +51,16 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
     check_env(args.env_id, {})
     backend = backend_from_args(args)
     library = BehaviorLibrary()
+    if args.out:  # checked before the model is asked; the transcript goes beside the behavior
+        inputs = (args.info, args.scripted, args.replay_transcript)
+        check_output(args.out, inputs, args.force, "--out")
+        check_output(str(Path(args.out).with_suffix(".transcript.json")), inputs, True, "--out")
     info = ""
     if args.info:
         try:
-            info = Path(args.info).read_text()
-        except OSError as exc:
-            raise UsageError(f"--info {args.info}: {exc.strerror}") from None
+            info = read_limited(args.info, what="--info file").decode()
+        except UnicodeDecodeError:
+            raise UsageError(f"--info {args.info}: not UTF-8 text") from None
     try:
         result = synthesize(args.env_id, args.description, backend, library, info,
                             tuple(args.uses), args.name, args.max_rounds)

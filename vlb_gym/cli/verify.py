@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import io
 import json
 import sys
-from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -18,13 +18,14 @@ from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_cam
 from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
 
-from .common import UsageError, add_env_kwarg, check_env, count, env_kwargs, probability
+from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check_output,
+                     clamp_workers, count, env_kwargs, probability, write_bytes_atomic)
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
     kwargs = env_kwargs(args.env_kwarg)
     if args.policy:
-        from vlb_gym.baselines.train import policy_env_kwargs
+        from vlb_gym.baselines.train import agent_files, policy_env_kwargs
         try:
             env_id, trained = policy_env_kwargs(args.policy)
         except ValueError as exc:
@@ -36,29 +37,51 @@ def cmd_verify(args: argparse.Namespace) -> int:
     config = CampaignConfig(args.env_id, args.policy or args.behavior, args.episodes,
                             args.epsilon, args.delta, args.seed, kwargs,
                             stop_on_failure=not args.keep_going, policy=bool(args.policy))
-    build(config)[0].close()  # compile the behavior here, so a bad file fails before any episode
-    stream = open(args.episodes_out, "w") if args.episodes_out else None
+    env, policy = build(config)  # compile the behavior here: a bad file fails before any episode
+    env.close()
+    inputs = agent_files(args.policy) if args.policy else behavior_files(policy.behavior)
+    episodes_out = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
+                    if args.episodes_out else None)
+    # a report is replaced without --force: atomically, once the campaign is done
+    report_out = (check_output(args.report, inputs, True, "--report") if args.report else None)
+    if report_out and episodes_out and report_out.resolve() == episodes_out.resolve():
+        raise UsageError("--report and --episodes-out name the same file")
+    workers = clamp_workers(args.workers, args.episodes, "verify")
+    stream = None
+    if episodes_out:
+        episodes_out.parent.mkdir(parents=True, exist_ok=True)
+        stream = open(episodes_out, "w" if args.force else "x")
     bar = None
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm
         bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
+    written = 0
 
     def on_episode(result):
+        nonlocal written
         if stream:
             stream.write(json.dumps(result.to_dict()) + "\n")
             stream.flush()
+            written += 1
         if bar:
             bar.update()
 
+    report = None
     try:
-        report = run_campaign(config, args.workers, on_episode)
+        report = run_campaign(config, workers, on_episode)
+    except KeyboardInterrupt:  # the pool's workers ignore Ctrl-C; leaving run_campaign ends them
+        pass
     finally:
         if bar:
             bar.close()
         if stream:
             stream.close()
-    if args.report:
-        write_atomic(Path(args.report), json.dumps(report, indent=2) + "\n")
+    if report is None:
+        kept = f"; {written} episode(s) written to {episodes_out}" if stream else ""
+        print(f"vlb verify: interrupted{kept}", file=sys.stderr)
+        return 130
+    if report_out:
+        write_atomic(report_out, json.dumps(report, indent=2) + "\n")
     print(summary(report, args.report))
     return 0
 
@@ -74,9 +97,10 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
         f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
         f"{_rate(report['episodes_per_second'])} episodes/s)",
         f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
-        f"  P[success] >= {1 - report['epsilon']:g} with confidence {report['confidence']:.5f}",
-        f"  P[success] >= {report['lower_bound']:.5f} at confidence level "
-        f"{1 - report['delta']:g} (one-sided Clopper-Pearson)",
+        f"  P[success] >= {bounds.one_minus_str(report['epsilon'])} with confidence "
+        f"{bounds.floor_str(report['confidence'])}",
+        f"  P[success] >= {bounds.floor_str(report['lower_bound'])} at confidence level "
+        f"{bounds.one_minus_str(report['delta'])} (one-sided Clopper-Pearson)",
         f"  holds for: {report['sampling_distribution']}",
     ]
     failed = report["failed_episodes"]
@@ -100,9 +124,10 @@ def cmd_plan(args: argparse.Namespace) -> int:
         print(json.dumps({"epsilon": args.epsilon, "confidence": args.confidence,
                           "failures": args.failures, "episodes": n}))
     else:
+        reached = bounds.confidence(n, args.failures, args.epsilon)
         print(f"{n} episodes: with at most {args.failures} failure(s), P[success] >= "
-              f"{1 - args.epsilon:g} holds with confidence >= {args.confidence:g} "
-              f"(reached: {bounds.confidence(n, args.failures, args.epsilon):.5f})")
+              f"{bounds.one_minus_str(args.epsilon)} holds with confidence >= {args.confidence} "
+              f"(reached: {bounds.floor_str(reached)})")
     return 0
 
 
@@ -129,6 +154,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"})
     env = RobustnessWrapper(gym.make(args.env_id, render_mode="rgb_array", **kwargs))
     policy = load_behavior(args.behavior, env)
+    out = check_output(args.out, behavior_files(policy.behavior), True, "--out")
     recorder = env.unwrapped
     continuous = hasattr(recorder, "frames")  # envs that film their primitives as they run
     frames: list[np.ndarray] = []
@@ -150,10 +176,10 @@ def cmd_render(args: argparse.Namespace) -> int:
         frames = frames[::stride]
     frames.append(env.render())
     images = [Image.fromarray(frame) for frame in frames]
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / args.fps),
-                   loop=0)
+    gif = io.BytesIO()
+    images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],
+                   duration=int(1000 / args.fps), loop=0)
+    write_bytes_atomic(out, gif.getvalue())
     print(f"rho_B = {result.rho:+d}; wrote {len(images)} frames to {out}")
     env.close()
     return 0
@@ -170,18 +196,24 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     chosen.add_argument("--behavior", metavar="NAME_OR_FILE",
                         help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
     chosen.add_argument("--policy", metavar="AGENT.zip",
-                        help="a trained agent ('vlb baseline train'); its training env kwargs "
-                        "apply, --env-kwarg may add to them")
+                        help="a trained agent ('vlb baseline train', a Stable-Baselines3 zip "
+                        "with AGENT.json beside it); its training env kwargs apply, --env-kwarg "
+                        "may add to them. Loading it runs code from the file (pickle): load only "
+                        "agents you trust")
     v.add_argument("--episodes", required=True, type=count(1), metavar="N")
     v.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
                    help="the claim is P[success] >= 1 - EPS")
     v.add_argument("--delta", type=probability, default=0.05,
                    help="lower bound at confidence level 1 - DELTA (default 0.05)")
     v.add_argument("--seed", type=count(0), default=0, help="campaign seed (default 0)")
-    v.add_argument("--workers", type=count(1), default=1, help="processes (default 1)")
-    v.add_argument("--report", metavar="PATH", help="write the JSON report here")
+    v.add_argument("--workers", type=count(1), default=1,
+                   help="processes (default 1; at most one per CPU and per episode)")
+    v.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
+                   "campaign is done (replacing the file, atomically, if it exists)")
     v.add_argument("--episodes-out", metavar="PATH",
-                   help="stream one JSON line per episode here as episodes finish")
+                   help="stream one JSON line per episode here as episodes finish; kept if the "
+                   "campaign is interrupted (Ctrl-C: exit code 130)")
+    v.add_argument("--force", action="store_true", help="replace an existing --episodes-out")
     v.add_argument("--keep-going", action="store_true",
                    help="run each episode to its end even after a certificate failed")
     v.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -217,7 +249,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     w.add_argument("env_id", metavar="ENV_ID")
     w.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
     w.add_argument("--seed", type=count(0), default=0)
-    w.add_argument("--out", required=True, metavar="FILE.gif")
+    w.add_argument("--out", required=True, metavar="FILE.gif",
+                   help="the animation (replaced, atomically, if it exists)")
     w.add_argument("--fps", type=count(1), default=10)
     add_env_kwarg(w)
     w.set_defaults(func=cmd_render)

@@ -6,7 +6,9 @@
 * :func:`lower_bound` -- the one-sided Clopper-Pearson lower confidence bound on ``P[success]`` at
   level ``1 - delta``: ``beta.ppf(delta, N - k, k + 1)`` (``delta**(1/N)`` for k = 0).
 * :func:`min_episodes` -- the least N whose confidence reaches the target with at most k failures
-  (``ceil(log(delta) / log(1 - eps))`` for k = 0).
+  (``ceil(log(delta) / log(1 - eps))`` for k = 0), for any eps: N may exceed 2**63.
+* :func:`floor_str` and :func:`one_minus_str` -- numbers for guarantees stated in words, written so
+  that they never claim more than was computed.
 
 The two statements are dual: with ``delta = 1 - confidence(N, k, eps)`` the lower bound equals
 ``1 - eps``. N must be fixed before the campaign; adding episodes until the bound passes is not a
@@ -17,6 +19,10 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
+from collections.abc import Callable
+from decimal import ROUND_FLOOR, Decimal, localcontext
+from fractions import Fraction
 
 from scipy.stats import beta, binom
 
@@ -41,9 +47,11 @@ def confidence(n: int, k: int, epsilon: float) -> float:
     """Confidence that P[success] >= 1 - epsilon after n episodes with k failures."""
     _check(n, k)
     _check_probability("epsilon", epsilon)
-    if k == 0:
-        return -math.expm1(int(n) * math.log1p(-epsilon))
-    return float(binom.sf(k, n, epsilon))
+    if k == 0:  # n * log1p(-eps) exactly, rounded once: n may exceed the float range
+        return -math.expm1(float(int(n) * Fraction(math.log1p(-epsilon))))
+    if n > sys.float_info.max:
+        raise ValueError(f"more than {sys.float_info.max:.3g} episodes: beyond floating point")
+    return float(binom.sf(float(k), float(n), epsilon))  # scipy takes no integers past 2**63
 
 
 def lower_bound(n: int, k: int, delta: float) -> float:
@@ -58,26 +66,65 @@ def lower_bound(n: int, k: int, delta: float) -> float:
 
 
 def min_episodes(epsilon: float, target_confidence: float, failures: int = 0) -> int:
-    """Least N such that N episodes with ``failures`` failures give ``target_confidence``."""
+    """Least N such that N episodes with ``failures`` failures give ``target_confidence``.
+
+    That is ``confidence(N, failures, epsilon) >= target_confidence > confidence(N - 1, ...)``.
+    For no failures the closed form, computed exactly from the two logarithms, lands on N or next
+    to it; with failures an exponential search brackets N. Both finish with a binary search, which
+    also crosses the stretches where consecutive huge N have the same floating-point confidence.
+    """
     _check_probability("epsilon", epsilon)
     _check_probability("confidence", target_confidence)
     if not _integer(failures) or failures < 0:
         raise ValueError(f"failures must be a non-negative integer (got {failures!r})")
+
+    def reaches(n: int) -> bool:
+        return confidence(n, failures, epsilon) >= target_confidence
+
     if failures == 0:
-        n = math.ceil(math.log1p(-target_confidence) / math.log1p(-epsilon))
-        while n > 1 and confidence(n - 1, 0, epsilon) >= target_confidence:  # guard rounding
-            n -= 1
-        while confidence(n, 0, epsilon) < target_confidence:
-            n += 1
-        return n
-    high = failures + 1
-    while confidence(high, failures, epsilon) < target_confidence:
-        high *= 2
-    low = high // 2  # confidence(low) < target or low <= failures
+        guess = math.ceil(Fraction(math.log1p(-target_confidence)) / Fraction(math.log1p(-epsilon)))
+        return _least(reaches, guess, 1)
+    return _least(reaches, failures + 1, failures + 1)
+
+
+def _least(reaches: Callable[[int], bool], guess: int, lowest: int) -> int:
+    """Least n >= lowest with ``reaches(n)``, for ``reaches`` false up to some n, then true;
+    the search starts at ``guess`` and steps out from it in doubling strides."""
+    guess, step = max(guess, lowest), 1
+    if reaches(guess):
+        high, low = guess, guess - 1
+        while low >= lowest and reaches(low):
+            high, step = low, step * 2
+            low = high - step
+        low = max(low, lowest - 1)  # not reached, or below the range
+    else:
+        low, high = guess, guess + 1
+        while not reaches(high):
+            low, step = high, step * 2
+            high = low + step
     while high - low > 1:
         mid = (low + high) // 2
-        if mid > failures and confidence(mid, failures, epsilon) >= target_confidence:
+        if reaches(mid):
             high = mid
         else:
             low = mid
     return high
+
+
+def floor_str(x: float, digits: int = 5) -> str:
+    """A probability in words, with ``digits`` decimals, rounded down so that it never claims more
+    than the number: 0.9499958 is ``0.94999``, not ``0.95000``. The confidences and bounds of a
+    finite campaign are below 1, so a value that rounded up to 1.0 prints as ``0.99999``. The
+    decimal rounded is the shortest that reads back as ``x`` (the float 0.99 prints ``0.99000``)."""
+    below_one = min(x, math.nextafter(1.0, 0.0))
+    return str(Decimal(repr(below_one)).quantize(Decimal(1).scaleb(-digits),
+                                                 rounding=ROUND_FLOOR))
+
+
+def one_minus_str(p: float) -> str:
+    """``1 - p`` in decimal, exactly as ``p`` is written: ``0.95`` for 0.05, ``0.9999999`` for
+    1e-7 (where ``f"{1 - p:g}"`` would claim ``1``)."""
+    written = Decimal(repr(p))
+    with localcontext() as context:
+        context.prec = 30 - written.adjusted()  # enough digits to be exact
+        return format(Decimal(1) - written, "f")

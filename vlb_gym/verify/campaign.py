@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import platform
+import signal
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -69,6 +70,8 @@ _WORKER: tuple[CampaignConfig, RobustnessWrapper, Policy] | None = None
 
 def _init_worker(config: CampaignConfig) -> None:
     global _WORKER
+    # Ctrl-C reaches the whole process group: the parent handles it and terminates the pool
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     _WORKER = (config, *build(config))
 
 
@@ -80,7 +83,11 @@ def _run_index(index: int) -> EpisodeResult:
 
 def iter_episodes(config: CampaignConfig, workers: int = 1,
                   indices: range | list[int] | None = None) -> Iterator[EpisodeResult]:
-    """Stream episode results as they finish (in index order for one worker)."""
+    """Stream episode results as they finish (in index order for one worker).
+
+    Worker processes ignore SIGINT: a Ctrl-C raises ``KeyboardInterrupt`` in the caller only, and
+    closing or leaving this generator terminates the pool.
+    """
     if not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer (got {workers!r})")
     indices = range(config.episodes) if indices is None else indices
@@ -133,8 +140,9 @@ def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: 
         "delta": config.delta,
         "lower_bound": low,
         "seed": config.seed,
-        "statement": (f"P[success] >= {1 - config.epsilon:g} with confidence {conf:.5f}; "
-                      f"P[success] >= {low:.5f} at confidence level {1 - config.delta:g} "
+        "statement": (f"P[success] >= {bounds.one_minus_str(config.epsilon)} with confidence "
+                      f"{bounds.floor_str(conf)}; P[success] >= {bounds.floor_str(low)} at "
+                      f"confidence level {bounds.one_minus_str(config.delta)} "
                       "(one-sided Clopper-Pearson)"),
         "sampling_distribution": distribution,
         "env_kwargs": config.env_kwargs,

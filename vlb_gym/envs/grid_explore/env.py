@@ -9,13 +9,17 @@ import numpy as np
 from gymnasium import spaces
 
 from vlb_gym.core.primitive import MotionPrimitive, execute
+from vlb_gym.envs import arguments
 
-from .generator import sample_state
+from .generator import check_fits, sample_state
 from .helpers import GridHelpers
 from .primitives import Navigate, Sense
 from .tasks import LEGS, TASKS, TaskTracker
 from .types import GOAL, GridState, Label
 from .viewer import render_rgb
+
+MAX_SIZE = 64  # bounds memory and planning time: size**2 cells, labels and actions
+MAX_ACTION_NOISE = 100.0  # cells/s: 5 cells per 20 Hz step, far past any useful disturbance
 
 
 class GridExploreEnv(gym.Env):
@@ -73,9 +77,12 @@ class GridExploreEnv(gym.Env):
 
     ## Arguments
     ``gym.make("VLB-GridExplore-v0", render_mode=None, size=10, n_obstacles=30, n_goals=3,
-    action_noise=0.0, task=None)``. With ``task="find_goal_and_oscillate"`` the observation also
-    holds ``start`` (the start cell) and ``legs`` (legs completed). ``action_noise`` (cells/s) is the standard deviation of a Gaussian
-    velocity disturbance on the integrator: the paper's non-deterministic case (Corollary 1).
+    action_noise=0.0, task=None)``: ``size`` an integer from 2 to 64, the counts integers that
+    leave a free start cell, ``action_noise`` a number from 0 to 100; otherwise ``TypeError`` or
+    ``ValueError``. With ``task="find_goal_and_oscillate"`` the observation also holds ``start``
+    (the start cell) and ``legs`` (legs completed). ``action_noise`` (cells/s) is the standard
+    deviation of a Gaussian velocity disturbance on the integrator: the paper's non-deterministic
+    case (Corollary 1).
     ``render_mode="rgb_array"`` renders a top-down picture (see :mod:`.viewer`).
     """
 
@@ -87,18 +94,18 @@ class GridExploreEnv(gym.Env):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode={render_mode!r} is not supported; "
                              f"use one of {self.metadata['render_modes']} or None")
-        if size < 2 or n_obstacles < 0 or n_goals < 1:
-            raise ValueError(f"need size >= 2, n_obstacles >= 0 and n_goals >= 1 "
-                             f"(got size={size}, n_obstacles={n_obstacles}, n_goals={n_goals})")
-        if not action_noise >= 0:
-            raise ValueError(f"action_noise must be >= 0 (got {action_noise})")
+        size = arguments.integer("size", size, 2, MAX_SIZE)
+        n_obstacles = arguments.integer("n_obstacles", n_obstacles, 0)
+        n_goals = arguments.integer("n_goals", n_goals, 1)
+        check_fits(size, n_obstacles, n_goals)
+        action_noise = arguments.real("action_noise", action_noise, 0.0, MAX_ACTION_NOISE)
         if task is not None and task not in TASKS:
             raise ValueError(f"task={task!r} is not one of {TASKS} (or None)")
         self.task = task
         self._tracker: TaskTracker | None = None
         self.render_mode = render_mode
         self.size, self.n_obstacles, self.n_goals = size, n_obstacles, n_goals
-        self.action_noise = float(action_noise)
+        self.action_noise = action_noise
         half = size / 2
         self.action_space = spaces.MultiDiscrete([2, size, size])
         observations = {

@@ -33,11 +33,16 @@ def is_allowable(truth: np.ndarray, component: np.ndarray, cell: tuple[int, int]
     return bool(np.any(component[truth == GOAL] == component[cell]))
 
 
-def sample_state(rng: np.random.Generator, size: int, n_obstacles: int, n_goals: int) -> GridState:
-    """Draw ``(x, d)`` uniformly from the allowable space."""
+def check_fits(size: int, n_obstacles: int, n_goals: int) -> None:
+    """Raise ``ValueError`` unless the obstacles and goals leave a free cell to start in."""
     if n_obstacles + n_goals >= size * size:
         raise ValueError(f"{n_obstacles} obstacles and {n_goals} goals do not fit a "
                          f"{size}x{size} grid with a free start cell")
+
+
+def sample_state(rng: np.random.Generator, size: int, n_obstacles: int, n_goals: int) -> GridState:
+    """Draw ``(x, d)`` uniformly from the allowable space."""
+    check_fits(size, n_obstacles, n_goals)
     half = size / 2
     for _ in range(MAX_TRIES):
         chosen = rng.choice(size * size, n_obstacles + n_goals, replace=False)
@@ -52,5 +57,5 @@ def sample_state(rng: np.random.Generator, size: int, n_obstacles: int, n_goals:
             labels = np.full((size, size), UNEXPLORED, dtype=np.int8)
             blocked = padded_blocked(truth != OBSTACLE)
             return GridState(truth, labels, position, cell, component, blocked)
-    raise RuntimeError(f"no allowable start/environment pair found in {MAX_TRIES} draws "
-                       f"(size={size}, obstacles={n_obstacles}, goals={n_goals})")
+    raise ValueError(f"no allowable start/environment pair found in {MAX_TRIES} draws "
+                     f"(size={size}, obstacles={n_obstacles}, goals={n_goals}): too crowded")

@@ -11,6 +11,7 @@ import numpy as np
 from gymnasium import spaces
 
 from vlb_gym.core.primitive import MotionPrimitive, execute
+from vlb_gym.envs import arguments
 
 from . import piles
 from .generator import place, sample_environment
@@ -20,6 +21,9 @@ from .primitives import Scoop
 from .scene import GRAIN_MASS, build_scene
 from .types import ScoopState
 
+MAX_PLACEMENT_NOISE = 0.04  # m: the containers, shifted by up to 2.5 sigma, never overlap
+MAX_YAW_NOISE_DEG = 72.0  # 2.5 sigma reaches a half turn
+MAX_GRAINS = 350  # the donor holds a settled pile of this many grains in every style
 DEFAULT_SENSING_POSE = (0.5, 0.075, 0.55, np.pi, -0.35, np.pi / 2)
 FOLDED = np.array([0.0, -1.9, 1.9, -1.57, -1.57, 0.0])
 
@@ -75,8 +79,11 @@ class ScoopEnv(gym.Env):
 
     ## Arguments
     ``render_mode`` (``"rgb_array"``: the overview camera; ``"depth_array"``: the wrist camera),
-    ``placement_noise=0.02``, ``yaw_noise_deg=8``, ``grain_counts=(230, 260, 290)``,
-    ``delivered_threshold_g=10``, ``width=480``, ``height=480`` (rgb frames).
+    ``placement_noise=0.02`` (0 to 0.04 m), ``yaw_noise_deg=8`` (0 to 72),
+    ``grain_counts=(230, 260, 290)`` (each 1 to 350; a count that ships no settled pile is settled
+    at its first reset, a few seconds), ``delivered_threshold_g=10`` (finite, >= 0),
+    ``width=480``, ``height=480`` (rgb frames, at most 640 x 480). Arguments of the wrong type
+    raise ``TypeError``, out of range ``ValueError``.
     """
 
     metadata = {"render_modes": ["rgb_array", "depth_array"], "render_fps": 25}
@@ -88,15 +95,19 @@ class ScoopEnv(gym.Env):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode={render_mode!r} is not supported; "
                              f"use one of {self.metadata['render_modes']} or None")
-        if placement_noise < 0 or yaw_noise_deg < 0:
-            raise ValueError("placement_noise and yaw_noise_deg must be >= 0")
-        if not grain_counts or min(grain_counts) < 1:
-            raise ValueError(f"grain_counts must be positive counts (got {grain_counts})")
         self.render_mode = render_mode
-        self.placement_noise, self.yaw_noise_deg = placement_noise, yaw_noise_deg
-        self.grain_counts = tuple(int(n) for n in grain_counts)
-        self.width, self.height = width, height
-        self.scoop = Scoop(delivered_threshold_g)
+        self.placement_noise = arguments.real("placement_noise", placement_noise, 0.0,
+                                              MAX_PLACEMENT_NOISE)
+        self.yaw_noise_deg = arguments.real("yaw_noise_deg", yaw_noise_deg, 0.0, MAX_YAW_NOISE_DEG)
+        if not isinstance(grain_counts, (list, tuple)) or not grain_counts:
+            raise TypeError(f"grain_counts must be a non-empty list of integers "
+                            f"(got {grain_counts!r})")
+        self.grain_counts = tuple(arguments.integer("grain_counts", n, 1, MAX_GRAINS)
+                                  for n in grain_counts)
+        # the offscreen buffer of the scene (<global offwidth="640" offheight="480"/>)
+        self.width = arguments.integer("width", width, 1, 640)
+        self.height = arguments.integer("height", height, 1, 480)
+        self.scoop = Scoop(arguments.real("delivered_threshold_g", delivered_threshold_g, 0.0))
         self.primitives: dict[str, MotionPrimitive[ScoopState]] = {"scoop": self.scoop}
         self.action_space = self.scoop.param_space
         self.observation_space = spaces.Box(np.array([-2, -2, -1, -np.pi, -np.pi, -np.pi]),
