@@ -7,7 +7,6 @@ import json
 import math
 import os
 import sys
-import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, NoReturn
@@ -144,20 +143,6 @@ def check_output(path: str, inputs: Iterable[str | os.PathLike[str] | None], for
     if not os.access(folder, os.W_OK | os.X_OK):
         raise UsageError(f"{where}: cannot write in {folder}: permission denied")
     return out
-
-
-def write_bytes_atomic(path: Path, data: bytes) -> None:
-    """Binary counterpart of :func:`vlb_gym.core.files.write_atomic`: readers see the old file or
-    the whole new one, and a failed write leaves nothing behind."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def available_cpus() -> int:

@@ -19,7 +19,7 @@ from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
 
 from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check_output,
-                     clamp_workers, count, env_kwargs, probability, write_bytes_atomic)
+                     clamp_workers, count, env_kwargs, probability)
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
@@ -179,7 +179,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     gif = io.BytesIO()
     images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],
                    duration=int(1000 / args.fps), loop=0)
-    write_bytes_atomic(out, gif.getvalue())
+    write_atomic(out, gif.getvalue())
     print(f"rho_B = {result.rho:+d}; wrote {len(images)} frames to {out}")
     env.close()
     return 0
