@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from vlb_gym import BehaviorSpecError, load_behavior, shipped_behaviors
-from vlb_gym.core.behavior import BehaviorRuntimeError
+from vlb_gym.core.runtime import BehaviorRuntimeError
 from vlb_gym.core.library import compile_for
 from vlb_gym.core.spec import SCHEMA_PATH, json_schema
 from vlb_gym.envs.grid_explore.types import GOAL, UNEXPLORED, cell_of

@@ -15,7 +15,7 @@ import pytest
 from vlb_gym.abstractor.backends import ScriptedBackend
 from vlb_gym.abstractor.synthesize import SynthesisError, synthesize
 from vlb_gym.abstractor.validate import validate_reply
-from vlb_gym.core.behavior import MAX_BEHAVIOR_DEPTH, MAX_CALL_DEPTH
+from vlb_gym.core.compiler import MAX_BEHAVIOR_DEPTH, MAX_CALL_DEPTH
 from vlb_gym.core.expressions import (BUILTINS, MAX_CALLS, EvaluationLimitError, Expression,
                                       ExpressionError, guard_namespace)
 from vlb_gym.core.library import BehaviorLibrary, compile_for, load_behavior

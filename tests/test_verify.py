@@ -8,7 +8,7 @@ import pytest
 from scipy.stats import beta, binom
 
 from vlb_gym import RobustnessWrapper, load_behavior
-from vlb_gym.core.robustness import behavior_robustness
+from vlb_gym.wrappers.robustness import behavior_robustness
 from vlb_gym.verify import CampaignConfig, episode_seed, iter_episodes, run_campaign, run_episode
 
 from .conftest import EXAMPLES

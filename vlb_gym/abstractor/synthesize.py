@@ -11,7 +11,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from vlb_gym.core.behavior import CompiledBehavior
+from vlb_gym.core.compiler import CompiledBehavior
 from vlb_gym.core.files import write_atomic
 from vlb_gym.core.library import BehaviorLibrary, compile_for, spec_json
 from vlb_gym.core.spec import BehaviorSpecError

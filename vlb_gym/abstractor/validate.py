@@ -11,12 +11,12 @@ runs under its work budget, so a hostile reply fails this layer instead of hangi
 
 from __future__ import annotations
 
-import json
 import re
 
 import gymnasium as gym
 
-from vlb_gym.core.behavior import BehaviorPolicy, BehaviorRuntimeError, CompiledBehavior
+from vlb_gym.core.compiler import CompiledBehavior
+from vlb_gym.core.runtime import BehaviorPolicy, BehaviorRuntimeError
 from vlb_gym.core.library import BehaviorLibrary, compile_spec
 from vlb_gym.core.spec import BehaviorSpec, BehaviorSpecError, parse_spec
 
@@ -66,7 +66,3 @@ def validate_reply(reply: str, env: gym.Env, library: BehaviorLibrary, name: str
     dry_run(compiled, env)
     return compiled
 
-
-def canonical(spec: BehaviorSpec) -> str:
-    """A stable text form of a spec, for comparisons."""
-    return json.dumps(spec.model_dump(by_alias=True, exclude_defaults=True), sort_keys=True)

@@ -87,8 +87,6 @@ class SB3Policy:
     the step bound (not finished), exactly as rho_B is defined for any policy.
     """
 
-    finished = False
-
     def __init__(self, path: str | Path, env: gym.Env):
         zip_path, _ = agent_files(path)
         self.meta = load_metadata(path)

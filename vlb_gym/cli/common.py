@@ -14,7 +14,7 @@ from typing import Any, NoReturn
 import gymnasium as gym
 
 import vlb_gym
-from vlb_gym.core.behavior import CompiledBehavior
+from vlb_gym.core.compiler import CompiledBehavior
 
 
 class UsageError(Exception):

@@ -1,13 +1,13 @@
-"""The formalism: primitives (Def. 1), behaviors (Def. 2), expressions, robustness."""
+"""The formalism: primitives (Def. 1), behaviors (Def. 2) and their compilation, expressions, runtime."""
 
-from .behavior import BehaviorPolicy, BehaviorRuntimeError, CompiledBehavior, compile_behavior
+from .compiler import CompiledBehavior, compile_behavior
 from .expressions import ExpressionError
 from .library import compile_for, load_behavior, shipped_behaviors
 from .primitive import ControllerFailure, MotionPrimitive, Outcome, execute
-from .robustness import behavior_robustness
+from .runtime import BehaviorPolicy, BehaviorRuntimeError
 from .spec import BehaviorSpec, BehaviorSpecError, json_schema, parse_spec
 
 __all__ = ["BehaviorPolicy", "BehaviorRuntimeError", "BehaviorSpec", "BehaviorSpecError",
            "CompiledBehavior", "ControllerFailure", "ExpressionError", "MotionPrimitive", "Outcome",
-           "behavior_robustness", "compile_behavior", "compile_for", "execute", "json_schema",
+           "compile_behavior", "compile_for", "execute", "json_schema",
            "load_behavior", "parse_spec", "shipped_behaviors"]

@@ -16,7 +16,8 @@ from typing import Any
 
 import gymnasium as gym
 
-from .behavior import BehaviorPolicy, CompiledBehavior, compile_behavior
+from .compiler import CompiledBehavior, compile_behavior
+from .runtime import BehaviorPolicy
 from .files import InputFileError, read_limited, write_atomic
 from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
 

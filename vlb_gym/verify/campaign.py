@@ -81,8 +81,7 @@ def _run_index(index: int) -> EpisodeResult:
                        config.stop_on_failure)
 
 
-def iter_episodes(config: CampaignConfig, workers: int = 1,
-                  indices: range | list[int] | None = None) -> Iterator[EpisodeResult]:
+def iter_episodes(config: CampaignConfig, workers: int = 1) -> Iterator[EpisodeResult]:
     """Stream episode results as they finish (in index order for one worker).
 
     Worker processes ignore SIGINT: a Ctrl-C raises ``KeyboardInterrupt`` in the caller only, and
@@ -90,7 +89,7 @@ def iter_episodes(config: CampaignConfig, workers: int = 1,
     """
     if not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer (got {workers!r})")
-    indices = range(config.episodes) if indices is None else indices
+    indices = range(config.episodes)
     env, policy = build(config)  # also checks the behavior before any worker starts
     if workers == 1:
         for i in indices:

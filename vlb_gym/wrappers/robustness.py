@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 import gymnasium as gym
 
-from vlb_gym.core.robustness import behavior_robustness
+
+
+def behavior_robustness(finished: bool, certificates: Iterable[bool]) -> int:
+    """rho_B (the paper's eq. behavior_robustness): +1 iff the behavior finished and every
+    certificate held (vacuously for none), else -1."""
+    return 1 if finished and all(certificates) else -1
 
 
 class RobustnessWrapper(gym.Wrapper):
