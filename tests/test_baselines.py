@@ -5,15 +5,16 @@ from __future__ import annotations
 import json
 
 import gymnasium as gym
+import numpy as np
 import pytest
 from scipy.stats import beta, binom
 
 from vlb_gym import RobustnessWrapper, load_behavior
 from vlb_gym.baselines.configs import TASKS
 from vlb_gym.baselines.train import make_env, train
-from vlb_gym.baselines.wrappers import FlatActions
+from vlb_gym.baselines.wrappers import ActionMasks, FlatActions
 from vlb_gym.cli import main
-from vlb_gym.envs.grid_explore.tasks import LEGS
+from vlb_gym.baselines.tasks import LEGS
 from vlb_gym.verify import CampaignConfig, iter_episodes, run_campaign, run_episode
 
 GRID = "VLB-GridExplore-v0"
@@ -23,21 +24,25 @@ GRID = "VLB-GridExplore-v0"
 def test_sb3_check_env_accepts_both_tasks(task):
     from stable_baselines3.common.env_checker import check_env
 
-    check_env(gym.make(GRID, task=task).unwrapped)
+    check_env(gym.make(GRID, task=task))
     check_env(make_env(GRID, TASKS[task].env_kwargs))
 
 
-def test_flat_actions_and_masks_match_admissibility():
-    env = FlatActions(gym.make(GRID, task="find_goal"))
-    env.reset(seed=4)
-    base = env.unwrapped
-    mask = env.action_masks()
-    assert mask.shape == (200,) and env.action_space.n == 200
-    for index in range(200):
-        kind, i, j = env.action(index)
-        assert index == kind * 100 + i * 10 + j
-        primitive = base.primitives[("sense", "navigate")[kind]]
-        assert mask[index] == primitive.admissible(base.state, (int(i), int(j)))
+@pytest.mark.parametrize("seed", range(6))
+def test_flat_actions_and_masks_match_admissibility(seed):
+    flat = FlatActions(gym.make(GRID, task="find_goal", size=6 + seed, n_obstacles=4 * seed))
+    env = ActionMasks(flat)
+    env.reset(seed=seed)
+    base, n = env.unwrapped, flat.action_space.n
+    for _ in range(3):  # states along a random admissible walk
+        mask = env.action_masks()
+        assert mask.shape == (n,) and n == 2 * base.size ** 2
+        for index in range(n):
+            kind, i, j = flat.action(index)
+            assert index == kind * base.size ** 2 + i * base.size + j
+            primitive = base.primitive_order[kind]
+            assert mask[index] == primitive.admissible(base.state, (int(i), int(j)))
+        env.step(int(np.flatnonzero(mask)[-1]))
 
 
 @pytest.mark.parametrize("task, behavior", [("find_goal", "explore_until_goal"),
@@ -51,9 +56,9 @@ def test_tasks_terminate_when_the_graph_finishes(task, behavior):
                              on_step=lambda info: info and rewards.append(info))
         assert result.rho == 1 and result.finished
         assert not policy.finished  # the env ended the episode on the graph's last primitive
-        assert policy.predict(env.unwrapped._observation())[0] is None
+        assert policy.predict(env.unwrapped.observation())[0] is None
         if task == "find_goal_and_oscillate":
-            assert env.unwrapped._tracker.legs == LEGS
+            assert env.get_wrapper_attr("tracker").legs == LEGS
 
 
 def test_task_rewards_follow_the_documented_scheme():
@@ -100,7 +105,7 @@ def test_cli_verify_policy_and_mismatch(tmp_path, capsys):
                  "--report", str(tmp_path / "r.json")]) == 0
     report = json.loads((tmp_path / "r.json").read_text())
     assert report["policy"] is True and report["episodes"] == 5
-    assert "task find_goal" in report["sampling_distribution"]
+    assert report["env_kwargs"]["task"] == "find_goal"
     assert main(["verify", "VLB-Scoop-v0", "--policy", str(saved), "--episodes", "5",
                  "--epsilon", "0.1"]) == 2
     assert "was trained on VLB-GridExplore-v0" in capsys.readouterr().err

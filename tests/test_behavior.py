@@ -250,7 +250,7 @@ def test_param_outside_the_space_is_a_runtime_error(grid_env, write_behavior):
     policy = load_behavior(str(write_behavior(doc)), grid_env)
     obs, _ = grid_env.reset(seed=0)
     obs, *_ = grid_env.step(policy.predict(obs)[0])
-    with pytest.raises(BehaviorRuntimeError, match=r"not a cell of the 10x10 grid"):
+    with pytest.raises(BehaviorRuntimeError, match=r"not in its parameter space"):
         policy.predict(obs)
 
 

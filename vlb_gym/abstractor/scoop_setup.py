@@ -175,7 +175,7 @@ class ScoopSetup:
         path = self.image_dir / f"wrist_view_{self.views:02d}.png"
         path.parent.mkdir(parents=True, exist_ok=True)
         Image.fromarray(self.env.wrist_image()).save(path)
-        problem = self.env.scoop.why_inadmissible(self.env.state, self.pose)
+        problem = self.env.inadmissible_reason("scoop", self.pose)
         seen = "both containers in view" if problem is None else problem
         return f"{seen}; camera view: {path}"
 

@@ -19,7 +19,7 @@ import vlb_gym  # noqa: F401 - registers the envs
 from vlb_gym.core.files import load_json, read_limited
 
 from .configs import ALGORITHMS, TaskConfig
-from .wrappers import FlatActions
+from .wrappers import ActionMasks, FlatActions, admissible_actions
 
 
 def _algorithm(name: str):
@@ -42,9 +42,11 @@ def _algorithm(name: str):
 
 
 def make_env(env_id: str, env_kwargs: dict[str, Any]) -> gym.Env:
-    """The training/verification env: flattened actions where the space is MultiDiscrete."""
+    """The training env: flattened actions and their masks where the space is MultiDiscrete."""
     env = gym.make(env_id, **env_kwargs)
-    return FlatActions(env) if isinstance(env.action_space, gym.spaces.MultiDiscrete) else env
+    if isinstance(env.action_space, gym.spaces.MultiDiscrete):
+        return ActionMasks(FlatActions(env))
+    return env
 
 
 def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_envs: int = 4,
@@ -105,7 +107,7 @@ class SB3Policy:
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
                 deterministic: bool = True) -> tuple[np.ndarray, None]:
-        kwargs = {"action_masks": self.env.unwrapped.action_masks()} if self.masked else {}
+        kwargs = {"action_masks": admissible_actions(self.env.unwrapped)} if self.masked else {}
         action, _ = self.model.predict(observation, deterministic=deterministic, **kwargs)
         if self.nvec is not None:  # trained on flattened actions
             action = np.array(np.unravel_index(int(action), self.nvec), dtype=np.int64)

@@ -1,4 +1,4 @@
-"""Flattening ``MultiDiscrete`` actions to ``Discrete`` (for DQN-style agents and action masking)."""
+"""Wrappers for RL: flattened actions and masks of admissible actions, for any PrimitiveEnv."""
 
 from __future__ import annotations
 
@@ -7,8 +7,32 @@ import numpy as np
 from gymnasium import spaces
 
 
+from vlb_gym.core.env import PrimitiveEnv
+
+
+def admissible_actions(env: PrimitiveEnv) -> np.ndarray:
+    """The admissible actions now, flat in C order over the ``MultiDiscrete`` action space (as
+    :class:`FlatActions` numbers them): each primitive's own ``admissible_mask``, judged with the
+    true state as admissibility is. Needs the base class's action layout."""
+    masks = [primitive.admissible_mask(env.state).ravel() for primitive in env.primitive_order]
+    mask = masks[0] if len(masks) == 1 else np.concatenate(masks)
+    if not isinstance(env.action_space, spaces.MultiDiscrete) or \
+            mask.size != int(np.prod(env.action_space.nvec)):
+        raise TypeError(f"{type(env).__name__}: masks need PrimitiveEnv's MultiDiscrete action "
+                        "layout")
+    return mask
+
+
+class ActionMasks(gym.Wrapper):
+    """Adds ``action_masks()`` (sb3-contrib's MaskablePPO calls it): :func:`admissible_actions`
+    of the env inside, flat in C order (put it outside :class:`FlatActions`)."""
+
+    def action_masks(self) -> np.ndarray:
+        return admissible_actions(self.env.unwrapped)
+
+
 class FlatActions(gym.ActionWrapper):
-    """``Discrete(prod(nvec))`` over a ``MultiDiscrete`` env, in C order; masks pass through."""
+    """``Discrete(prod(nvec))`` over a ``MultiDiscrete`` env, in C order."""
 
     def __init__(self, env: gym.Env):
         if not isinstance(env.action_space, spaces.MultiDiscrete):
@@ -20,6 +44,3 @@ class FlatActions(gym.ActionWrapper):
 
     def action(self, action: int) -> np.ndarray:
         return np.array(np.unravel_index(int(action), self.nvec), dtype=np.int64)
-
-    def action_masks(self) -> np.ndarray:
-        return self.env.unwrapped.action_masks()

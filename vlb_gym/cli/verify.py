@@ -155,26 +155,19 @@ def cmd_render(args: argparse.Namespace) -> int:
     env = RobustnessWrapper(gym.make(args.env_id, render_mode="rgb_array", **kwargs))
     policy = load_behavior(args.behavior, env)
     out = check_output(args.out, behavior_files(policy.behavior), True, "--out")
-    recorder = env.unwrapped
-    continuous = hasattr(recorder, "frames")  # envs that film their primitives as they run
     frames: list[np.ndarray] = []
-    if continuous:
-        recorder.frames = frames
+    env.unwrapped.film(frames.append)  # after reset, after each primitive, and during motion
 
     def on_step(info: dict | None) -> None:
-        if not continuous:
-            frames.append(env.render())
         if info is not None:
             print(f"{len(env.history):4d} {'ok  ' if info['certificate'] else 'FAIL'} "
                   f"{info['primitive']} "
                   f"{np.round(np.asarray(info['param'], dtype=float), 3).tolist()}")
 
     result = run_episode(env, policy, args.seed, stop_on_failure=False, on_step=on_step)
-    if continuous:
-        recorder.frames = None
-        stride = max(1, round(env.metadata["render_fps"] / args.fps))
-        frames = frames[::stride]
-    frames.append(env.render())
+    env.unwrapped.film(None)
+    stride = max(1, round(env.metadata["render_fps"] / args.fps))
+    frames = frames[::stride] + frames[-1:]  # the last state too, whatever the stride
     images = [Image.fromarray(frame) for frame in frames]
     gif = io.BytesIO()
     images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],

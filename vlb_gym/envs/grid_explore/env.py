@@ -8,13 +8,13 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from vlb_gym.core.primitive import MotionPrimitive, execute
+from vlb_gym.core.env import PrimitiveEnv
+from vlb_gym.core.primitive import Outcome
 from vlb_gym.envs import arguments
 
 from .generator import check_fits, sample_state
 from .helpers import GridHelpers
 from .primitives import Navigate, Sense
-from .tasks import LEGS, TASKS, TaskTracker
 from .types import GOAL, GridState, Label
 from .viewer import render_rgb
 
@@ -22,7 +22,7 @@ MAX_SIZE = 64  # bounds memory and planning time: size**2 cells, labels and acti
 MAX_ACTION_NOISE = 100.0  # cells/s: 5 cells per 20 Hz step, far past any useful disturbance
 
 
-class GridExploreEnv(gym.Env):
+class GridExploreEnv(PrimitiveEnv[GridState]):
     """A single-integrator agent explores a grid with obstacles for goals, one primitive per step.
 
     ## Description
@@ -55,10 +55,11 @@ class GridExploreEnv(gym.Env):
     (0 empty, 1 obstacle, 2 unexplored, 3 goal).
 
     ## Rewards
-    0 without a ``task``: the environment exists to verify behaviors, whose robustness rho_B is
-    computed by :class:`vlb_gym.RobustnessWrapper` from the certificates, not from rewards. With
-    ``task="find_goal"`` or ``"find_goal_and_oscillate"`` a task-aligned reward for RL (see
-    :mod:`.tasks`); it never changes rho_B.
+    0: the environment exists to verify behaviors, whose robustness rho_B is computed by
+    :class:`vlb_gym.RobustnessWrapper` from the certificates, not from rewards. With
+    ``task="find_goal"`` or ``"find_goal_and_oscillate"``, ``gym.make`` wraps the env in
+    :class:`vlb_gym.baselines.tasks.GridTask`: a task-aligned reward for RL that never changes
+    rho_B.
 
     ## Starting State
     ``(x, d)`` drawn uniformly from the allowable space: obstacles and goals a uniform random
@@ -66,8 +67,8 @@ class GridExploreEnv(gym.Env):
     obstacle, no goal) and some goal is reachable from it. All labels start unexplored.
 
     ## Episode End
-    Without a task the environment never terminates by itself: a behavior decides when it has
-    finished. With a task it terminates when the task is done. Episodes are truncated after
+    The environment never terminates by itself: a behavior decides when it has finished (with a
+    ``task``, the task wrapper terminates when the task is done). Episodes are truncated after
     ``max_episode_steps`` primitives (500 when made with ``gym.make``).
 
     ## Info
@@ -79,8 +80,7 @@ class GridExploreEnv(gym.Env):
     ``gym.make("VLB-GridExplore-v0", render_mode=None, size=10, n_obstacles=30, n_goals=3,
     action_noise=0.0, task=None)``: ``size`` an integer from 2 to 64, the counts integers that
     leave a free start cell, ``action_noise`` a number from 0 to 100; otherwise ``TypeError`` or
-    ``ValueError``. With ``task="find_goal_and_oscillate"`` the observation also holds ``start``
-    (the start cell) and ``legs`` (legs completed). ``action_noise`` (cells/s) is the standard
+    ``ValueError``. ``task`` (``gym.make`` only) applies the RL task wrapper. ``action_noise`` (cells/s) is the standard
     deviation of a Gaussian velocity disturbance on the integrator: the paper's non-deterministic
     case (Corollary 1).
     ``render_mode="rgb_array"`` renders a top-down picture (see :mod:`.viewer`).
@@ -90,103 +90,47 @@ class GridExploreEnv(gym.Env):
     env_id = "VLB-GridExplore-v0"
 
     def __init__(self, render_mode: str | None = None, size: int = 10, n_obstacles: int = 30,
-                 n_goals: int = 3, action_noise: float = 0.0, task: str | None = None):
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"render_mode={render_mode!r} is not supported; "
-                             f"use one of {self.metadata['render_modes']} or None")
+                 n_goals: int = 3, action_noise: float = 0.0):
         size = arguments.integer("size", size, 2, MAX_SIZE)
         n_obstacles = arguments.integer("n_obstacles", n_obstacles, 0)
         n_goals = arguments.integer("n_goals", n_goals, 1)
         check_fits(size, n_obstacles, n_goals)
-        action_noise = arguments.real("action_noise", action_noise, 0.0, MAX_ACTION_NOISE)
-        if task is not None and task not in TASKS:
-            raise ValueError(f"task={task!r} is not one of {TASKS} (or None)")
-        self.task = task
-        self._tracker: TaskTracker | None = None
-        self.render_mode = render_mode
         self.size, self.n_obstacles, self.n_goals = size, n_obstacles, n_goals
-        self.action_noise = action_noise
+        self.action_noise = arguments.real("action_noise", action_noise, 0.0, MAX_ACTION_NOISE)
         half = size / 2
-        self.action_space = spaces.MultiDiscrete([2, size, size])
-        observations = {
+        observations = spaces.Dict({
             "position": spaces.Box(-half, half, shape=(2,), dtype=np.float64),
             "labels": spaces.MultiDiscrete(np.full(size * size, len(Label))),
-        }
-        if task == "find_goal_and_oscillate":  # what a memoryless policy needs to oscillate
-            observations["start"] = spaces.MultiDiscrete([size, size])
-            observations["legs"] = spaces.Discrete(LEGS + 1)
-        self.observation_space = spaces.Dict(observations)
-        sense, navigate = Sense(size), Navigate(size, self.action_noise)
-        self.primitives: dict[str, MotionPrimitive[GridState]] = {"sense": sense,
-                                                                  "navigate": navigate}
-        self._by_index = (sense, navigate)
-        self._state: GridState | None = None
+        })
+        super().__init__([Sense(size), Navigate(size, self.action_noise)], observations,
+                         render_mode)
 
-    # -- the behavior interface -------------------------------------------------------------
+    def sample_state(self) -> GridState:
+        return sample_state(self.np_random, self.size, self.n_obstacles, self.n_goals)
+
+    def observation(self) -> dict[str, np.ndarray]:
+        state = self.state
+        return {"position": state.position.copy(),
+                "labels": state.labels.ravel().astype(np.int64)}
+
     def make_helpers(self) -> GridHelpers:
         """Fresh helpers (E1-E3) reading this environment's observations."""
         return GridHelpers(self.size)
 
-    def encode_action(self, primitive: str, param: Any) -> np.ndarray:
-        """The action running ``primitive`` with parameter cell ``param``."""
-        kind = ("sense", "navigate").index(primitive)
-        try:
-            i, j = param
-        except (TypeError, ValueError):
-            raise ValueError(f"{primitive} parameter {param!r} is not a cell (i, j)") from None
-        if not (isinstance(i, (int, np.integer)) and isinstance(j, (int, np.integer))
-                and 0 <= i < self.size and 0 <= j < self.size):
-            raise ValueError(f"{primitive} parameter {param!r} is not a cell of the "
-                             f"{self.size}x{self.size} grid")
-        return np.array([kind, i, j], dtype=np.int64)
+    def reset_info(self) -> dict[str, Any]:
+        return {"start_cell": self.state.start_cell}
 
-    # -- gymnasium API -------------------------------------------------------------------------
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        super().reset(seed=seed)
-        self._state = sample_state(self.np_random, self.size, self.n_obstacles, self.n_goals)
-        self._tracker = TaskTracker(self.task) if self.task else None
-        return self._observation(), {"start_cell": self._state.start_cell}
-
-    def step(self, action: Any):
-        if self._state is None:
-            raise RuntimeError("call reset() before step()")
-        array = np.asarray(action)
-        if array.shape != (3,) or array.dtype.kind not in "iu":
-            raise ValueError(f"action {action!r} is not in the action space {self.action_space}: "
-                             "expected an integer array [primitive (0 sense, 1 navigate), i, j]")
-        kind, i, j = array.tolist()
-        if not (0 <= kind < 2 and 0 <= i < self.size and 0 <= j < self.size):
-            raise ValueError(f"action {action!r} is not in the action space {self.action_space}: "
-                             f"primitive must be 0 (sense) or 1 (navigate) and 0 <= i, j < "
-                             f"{self.size}")
-        outcome = execute(self._by_index[kind], self._state, (i, j), self.np_random)
-        info = outcome.as_info()
-        info["cell"] = self._state.cell
-        info["goal_found"] = bool(np.any(self._state.labels == GOAL))
-        reward, terminated = 0.0, False
-        if self._tracker is not None:
-            reward, terminated = self._tracker.update(self._state, info)
-        return self._observation(), reward, terminated, False, info
-
-    def action_masks(self) -> np.ndarray:
-        """Admissible actions of the flattened action space ``kind * size**2 + i * size + j``
-        (judged with the true map, as admissibility is): for sb3-contrib's MaskablePPO."""
+    def step_info(self, outcome: Outcome) -> dict[str, Any]:
         state = self.state
-        sense = np.zeros(self.size * self.size, dtype=bool)
-        sense[state.cell[0] * self.size + state.cell[1]] = True
-        navigate = (state.component == state.component[state.cell]).ravel()
-        return np.concatenate([sense, navigate])
+        return {"cell": state.cell, "goal_found": bool(np.any(state.labels == GOAL))}
 
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
-        if self._state is None:
-            raise RuntimeError("call reset() before render()")
-        return render_rgb(self._state)
+        return render_rgb(self.state)
 
     def sampling_distribution(self) -> str:
-        """The distribution reset() samples from, in words: what a guarantee holds for."""
         half = self.size / 2
         dynamics = ("deterministic dynamics (Theorem 2)" if self.action_noise == 0 else
                     f"Gaussian velocity disturbance sigma={self.action_noise:g} cells/s "
@@ -194,20 +138,4 @@ class GridExploreEnv(gym.Env):
         return (f"uniform over the allowable space of a {self.size}x{self.size} grid: "
                 f"{self.n_obstacles} obstacles and {self.n_goals} goals on distinct uniformly "
                 f"random cells, start position uniform on [{-half:g}, {half:g}]^2, accepted when "
-                f"its cell is empty and some goal is reachable from it; {dynamics}"
-                + (f"; task {self.task} (finished = the task terminated)" if self.task else ""))
-
-    @property
-    def state(self) -> GridState:
-        """The joint state (x, d); for analysis and tests, not for policies."""
-        if self._state is None:
-            raise RuntimeError("call reset() first")
-        return self._state
-
-    def _observation(self) -> dict[str, np.ndarray]:
-        obs = {"position": self._state.position.copy(),
-               "labels": self._state.labels.ravel().astype(np.int64)}
-        if self.task == "find_goal_and_oscillate":
-            obs["start"] = np.array(self._state.start_cell, dtype=np.int64)
-            obs["legs"] = self._tracker.legs
-        return obs
+                f"its cell is empty and some goal is reachable from it; {dynamics}")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 from gymnasium import spaces
@@ -40,8 +41,10 @@ class LabelsMatch:
 
     cells: tuple[np.ndarray, np.ndarray]
 
-    def contains(self, state: GridState) -> bool:
-        return bool((state.labels[self.cells] == state.truth[self.cells]).all())
+    def violations(self, state: GridState) -> dict[str, str]:
+        if (state.labels[self.cells] == state.truth[self.cells]).all():
+            return {}
+        return {"labels": "the sensed labels differ from the true ones"}
 
 
 @dataclass(frozen=True)
@@ -50,11 +53,13 @@ class InCell:
 
     cell: Cell
 
-    def contains(self, state: GridState) -> bool:
+    def violations(self, state: GridState) -> dict[str, str]:
         half = state.size / 2
         x, y = state.position.tolist()
         i, j = self.cell
-        return i - half <= x < i - half + 1 and j - half <= y < j - half + 1
+        if i - half <= x < i - half + 1 and j - half <= y < j - half + 1:
+            return {}
+        return {"cell": f"final position ({x:.2f}, {y:.2f}) outside the target cell {self.cell}"}
 
 
 class Sense(MotionPrimitive[GridState]):
@@ -71,12 +76,18 @@ class Sense(MotionPrimitive[GridState]):
     def admissible(self, state: GridState, param: Cell) -> bool:
         return tuple(param) == state.cell
 
+    def admissible_mask(self, state: GridState) -> np.ndarray:
+        mask = np.zeros((state.size, state.size), dtype=bool)
+        mask[state.cell] = True
+        return mask
+
     def terminal_region(self, state: GridState, param: Cell) -> LabelsMatch:
         return LabelsMatch(sensed_cells(state.size, param))
 
-    def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> None:
+    def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> dict[str, Any]:
         cells = sensed_cells(state.size, param)
         state.labels[cells] = state.truth[cells]
+        return {}
 
 
 class Navigate(MotionPrimitive[GridState]):
@@ -96,10 +107,13 @@ class Navigate(MotionPrimitive[GridState]):
         return bool(state.component[target] != 0
                     and state.component[target] == state.component[state.cell])
 
+    def admissible_mask(self, state: GridState) -> np.ndarray:
+        return state.component == state.component[state.cell]  # the agent's cell is free
+
     def terminal_region(self, state: GridState, param: Cell) -> InCell:
         return InCell(tuple(param))
 
-    def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> None:
+    def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> dict[str, Any]:
         path = planner.greedy_path(cost_to_go(state, tuple(param)), state.cell)
         waypoints = np.array(path[1:] or path, dtype=float)
         waypoints -= state.size / 2 - 0.5  # cell centres
@@ -112,7 +126,7 @@ class Navigate(MotionPrimitive[GridState]):
         if hit < 0:
             state.trail.append(trajectory)
             state.position = trajectory[-1]
-            return
+            return {}
         state.trail.append(trajectory[:hit])
         if hit:
             state.position = trajectory[hit - 1]

@@ -10,7 +10,8 @@ import mujoco
 import numpy as np
 from gymnasium import spaces
 
-from vlb_gym.core.primitive import MotionPrimitive, execute
+from vlb_gym.core.env import FrameCallback, PrimitiveEnv
+from vlb_gym.core.primitive import Outcome
 from vlb_gym.envs import arguments
 
 from . import piles
@@ -36,7 +37,7 @@ def home_configuration() -> np.ndarray:
     return kin.solve(pose[:3], rpy_matrix(*pose[3:]), FOLDED)
 
 
-class ScoopEnv(gym.Env):
+class ScoopEnv(PrimitiveEnv[ScoopState]):
     """A 6-DOF arm with a wrist depth camera scoops sand from a donor into a receiver.
 
     ## Description
@@ -92,10 +93,6 @@ class ScoopEnv(gym.Env):
     def __init__(self, render_mode: str | None = None, placement_noise: float = 0.02,
                  yaw_noise_deg: float = 8.0, grain_counts: tuple[int, ...] = piles.GRAIN_COUNTS,
                  delivered_threshold_g: float = 10.0, width: int = 480, height: int = 480):
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"render_mode={render_mode!r} is not supported; "
-                             f"use one of {self.metadata['render_modes']} or None")
-        self.render_mode = render_mode
         self.placement_noise = arguments.real("placement_noise", placement_noise, 0.0,
                                               MAX_PLACEMENT_NOISE)
         self.yaw_noise_deg = arguments.real("yaw_noise_deg", yaw_noise_deg, 0.0, MAX_YAW_NOISE_DEG)
@@ -108,92 +105,66 @@ class ScoopEnv(gym.Env):
         self.width = arguments.integer("width", width, 1, 640)
         self.height = arguments.integer("height", height, 1, 480)
         self.scoop = Scoop(arguments.real("delivered_threshold_g", delivered_threshold_g, 0.0))
-        self.primitives: dict[str, MotionPrimitive[ScoopState]] = {"scoop": self.scoop}
-        self.action_space = self.scoop.param_space
-        self.observation_space = spaces.Box(np.array([-2, -2, -1, -np.pi, -np.pi, -np.pi]),
-                                            np.array([2, 2, 2, np.pi, np.pi, np.pi]),
-                                            dtype=np.float64)
-        self._state: ScoopState | None = None
+        observations = spaces.Box(np.array([-2, -2, -1, -np.pi, -np.pi, -np.pi]),
+                                  np.array([2, 2, 2, np.pi, np.pi, np.pi]), dtype=np.float64)
+        super().__init__([self.scoop], observations, render_mode)
         self._data: dict[int, mujoco.MjData] = {}
         self._renderers: dict[tuple[int, str], mujoco.Renderer] = {}
-        self.frames: list[np.ndarray] | None = None
 
-    # -- the behavior interface -------------------------------------------------------------
     def make_helpers(self) -> ScoopHelpers:
         return ScoopHelpers()
 
-    def encode_action(self, primitive: str, param: Any) -> np.ndarray:
-        if primitive != "scoop":
-            raise ValueError(f"unknown primitive {primitive!r}")
-        try:
-            action = np.asarray(param, dtype=np.float32).reshape(6)
-        except (TypeError, ValueError):
-            raise ValueError(f"scoop parameter {param!r} is not a pose (x, y, z, roll, pitch, "
-                             "yaw)") from None
-        if not self.action_space.contains(action):
-            raise ValueError(f"scoop parameter {param!r} is outside the pose box "
-                             f"{self.action_space}")
-        return action
-
-    # -- gymnasium API ---------------------------------------------------------------------------
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        super().reset(seed=seed)
+    def sample_state(self) -> ScoopState:
         env = sample_environment(self.np_random, self.grain_counts, self.placement_noise,
                                  self.yaw_noise_deg)
         scene = build_scene(env.n_grains)
         data = self._data.setdefault(env.n_grains, mujoco.MjData(scene.model))
         place(scene, data, env, home_configuration())
-        self._state = ScoopState(scene, data, env)
-        return self._observation(), {"environment": {
+        state = ScoopState(scene, data, env)
+        self._film_motion(state)
+        return state
+
+    def observation(self) -> np.ndarray:
+        pos, rot = self.state.flange_pose
+        return np.concatenate([pos, matrix_rpy(rot)])
+
+    def reset_info(self) -> dict[str, Any]:
+        env = self.state.env
+        return {"environment": {
             "donor": env.donor.round(4).tolist(), "receiver": env.receiver.round(4).tolist(),
             "grains": env.n_grains, "pile": env.pile_style}}
 
-    def step(self, action: Any):
-        if self._state is None:
-            raise RuntimeError("call reset() before step()")
-        pose = np.asarray(action)
-        if pose.shape != (6,) or pose.dtype.kind not in "fi" or not self.action_space.contains(
-                pose.astype(np.float32)):
-            raise ValueError(f"action {action!r} is not in the action space {self.action_space}: "
-                             "expected a sensing pose (x, y, z, roll, pitch, yaw)")
-        state = self._state
-        if self.frames is not None:
-            state.on_frame = lambda: self.frames.append(self.render())
-            state.frame_every = max(1, round(1 / (self.metadata["render_fps"]
-                                                 * state.scene.model.opt.timestep)))
-        started = state.data.time
-        outcome = execute(self.scoop, state, tuple(float(v) for v in pose), self.np_random)
-        info = outcome.as_info()
-        info["param"] = tuple(round(v, 4) for v in info["param"])  # float32 digits are noise
-        if not outcome.admissible:
-            info["reason"] = state.last["inadmissible"]
-        violations = state.last.get("violations")
-        info["certificates"] = {"pose": violations is not None and "pose" not in violations,
-                                "delivered": violations is not None
-                                and "delivered" not in violations}
-        if violations:
-            info["reason"] = "; ".join(violations.values())
-        for key in ("mass_scooped", "mass_delivered", "mass_spilled", "perceived"):
-            if key in state.last:
-                info[key] = state.last[key]
-        info["sim_seconds"] = round(state.data.time - started, 3)
-        reward = info.get("mass_delivered", 0.0) / 1000.0
-        return self._observation(), reward, False, False, info
+    def step_info(self, outcome: Outcome) -> dict[str, Any]:
+        return {"param": tuple(round(v, 4) for v in outcome.param)}  # float32 digits are noise
+
+    def reward(self, outcome: Outcome) -> float:
+        """The delivered mass in kilograms (a task-aligned default; rho_B does not use it)."""
+        return outcome.details.get("mass_delivered", 0.0) / 1000.0
+
+    def film(self, callback: FrameCallback | None) -> None:
+        """Also films the arm's motion during a scoop, at ``render_fps``."""
+        super().film(callback)
+        if self._state is not None:
+            self._film_motion(self._state)
+
+    def _film_motion(self, state: ScoopState) -> None:
+        filming = self._on_frame is not None
+        state.on_frame = (lambda: self._on_frame(self.render())) if filming else None
+        state.frame_every = max(1, round(1 / (self.metadata["render_fps"]
+                                             * state.scene.model.opt.timestep)))
 
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:
             gym.logger.warn("render() called without a render_mode")
             return None
-        if self._state is None:
-            raise RuntimeError("call reset() before render()")
+        state = self.state
         if self.render_mode == "depth_array":
-            return self.scoop.camera(self._state).depth(self._state.data)
-        key = (id(self._state.scene), "rgb")
+            return self.scoop.camera(state).depth(state.data)
+        key = (id(state.scene), "rgb")
         if key not in self._renderers:
-            self._renderers[key] = mujoco.Renderer(self._state.scene.model, self.height,
-                                                   self.width)
+            self._renderers[key] = mujoco.Renderer(state.scene.model, self.height, self.width)
         renderer = self._renderers[key]
-        renderer.update_scene(self._state.data, camera="overview")
+        renderer.update_scene(state.data, camera="overview")
         return renderer.render().copy()
 
     def close(self) -> None:
@@ -233,13 +204,3 @@ class ScoopEnv(gym.Env):
                 f"{self.yaw_noise_deg:g} deg in yaw, truncated at 2.5 sigma), sand level uniform "
                 f"over {list(self.grain_counts)} grains of {GRAIN_MASS * 1000:.2f} g, pile flat, "
                 "tilted or heaped (uniform); arm starting at the default sensing pose")
-
-    @property
-    def state(self) -> ScoopState:
-        if self._state is None:
-            raise RuntimeError("call reset() first")
-        return self._state
-
-    def _observation(self) -> np.ndarray:
-        pos, rot = self._state.flange_pose
-        return np.concatenate([pos, matrix_rpy(rot)])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -10,9 +11,10 @@ from gymnasium import spaces
 
 from vlb_gym.core.primitive import MotionPrimitive
 
-from .controller import DepthCamera, run_scoop
+from .controller import DepthCamera, grains_in_box, run_scoop
 from .kinematics import IKFailure, Kinematics, angle_between, rpy_matrix
-from .scene import DONOR_OUTER, DONOR_WALL, RECEIVER_OUTER, RECEIVER_WALL
+from .scene import (DONOR_OUTER, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF, RECEIVER_OUTER,
+                    RECEIVER_WALL)
 from .types import ScoopState
 
 POSITION_TOL = 0.01  # m: radius of the terminal ball around the sensing position
@@ -41,7 +43,8 @@ class ScoopRegion:
     threshold_g: float
 
     def violations(self, state: ScoopState) -> dict[str, str]:
-        """Which parts of the region the state misses: ``pose`` and/or ``delivered``."""
+        """Which parts of the region the state misses: ``pose`` and/or ``delivered`` (the mass of
+        the grains in the receiver now)."""
         pos, rot = state.flange_pose
         out = {}
         distance = float(np.linalg.norm(pos - self.pose[:3]))
@@ -49,20 +52,24 @@ class ScoopRegion:
         if distance > POSITION_TOL or angle > ORIENTATION_TOL:
             out["pose"] = (f"end pose off by {distance * 1000:.1f} mm and "
                            f"{np.degrees(angle):.1f} deg")
-        delivered = state.last.get("mass_delivered", 0.0)
+        delivered = delivered_mass(state)
         if delivered < self.threshold_g:
             out["delivered"] = f"delivered {delivered:.1f} g < {self.threshold_g:g} g"
         return out
 
-    def contains(self, state: ScoopState) -> bool:
-        state.last["violations"] = self.violations(state)
-        return not state.last["violations"]
+
+def delivered_mass(state: ScoopState) -> float:
+    """Grams of sand in the receiver."""
+    grains = state.data.qpos[state.scene.grain_qpos[:, :3]]
+    inside = grains_in_box(grains, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
+    return float(inside.sum()) * GRAIN_MASS * 1000
 
 
 class Scoop(MotionPrimitive[ScoopState]):
     """Move to the sensing pose, locate the containers in a depth image, scoop, dump, return."""
 
     name = "scoop"
+    region_parts = ("pose", "delivered")
 
     def __init__(self, threshold_g: float):
         self.param_space = spaces.Box(POSE_LOW, POSE_HIGH, dtype=np.float32)
@@ -88,8 +95,9 @@ class Scoop(MotionPrimitive[ScoopState]):
             self._cameras[key] = DepthCamera(state.scene)
         return self._cameras[key]
 
-    def why_inadmissible(self, state: ScoopState, pose: np.ndarray) -> str | None:
-        """None if ``pose`` is in A(x, d), else the reason (judged with the true d)."""
+    def inadmissible_reason(self, state: ScoopState, param: Any) -> str | None:
+        """None if the pose is in A(x, d), else the reason (judged with the true d)."""
+        pose = np.asarray(param, dtype=float)
         kin = self.kinematics(state)
         try:
             q = kin.solve(pose[:3], rpy_matrix(*pose[3:]), state.data.qpos[state.scene.arm_qpos])
@@ -116,25 +124,27 @@ class Scoop(MotionPrimitive[ScoopState]):
                 return f"the {name} is not fully in the camera's view"
         return None
 
-    def admissible(self, state: ScoopState, param: np.ndarray) -> bool:
-        state.last = {"inadmissible": self.why_inadmissible(state, np.asarray(param, float))}
-        return state.last["inadmissible"] is None
+    def admissible(self, state: ScoopState, param: Any) -> bool:
+        return self.inadmissible_reason(state, param) is None
 
     def terminal_region(self, state: ScoopState, param: np.ndarray) -> ScoopRegion:
         return ScoopRegion(np.asarray(param, dtype=float), self.threshold_g)
 
-    def run(self, state: ScoopState, param: np.ndarray, rng: np.random.Generator) -> None:
-        state.last = {"mass_scooped": 0.0, "mass_delivered": 0.0, "mass_spilled": 0.0}
+    def run(self, state: ScoopState, param: Any, rng: np.random.Generator) -> dict[str, Any]:
+        started = state.data.time
         measured = run_scoop(state, np.asarray(param, dtype=float), self.camera(state))
-        state.last.update(mass_scooped=measured.scooped, mass_delivered=measured.delivered,
-                          mass_spilled=measured.spilled)
+        details: dict[str, Any] = {"mass_scooped": measured.scooped,
+                                   "mass_delivered": measured.delivered,
+                                   "mass_spilled": measured.spilled}
         if measured.estimate is not None:
             est = measured.estimate
-            state.last["perceived"] = {
+            details["perceived"] = {
                 "donor": [*est.donor.center.round(4).tolist(), round(float(est.donor.yaw), 4)],
                 "receiver": [*est.receiver.center.round(4).tolist(),
                              round(float(est.receiver.yaw), 4)],
                 "bed_height": round(est.bed_height, 4)}
+        details["sim_seconds"] = round(state.data.time - started, 3)
+        return details
 
     def close(self) -> None:
         for camera in self._cameras.values():

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -27,12 +26,11 @@ class Environment:
 
 @dataclass
 class ScoopState:
-    """The simulation (x: arm and grains, d: containers) plus bookkeeping of the last scoop."""
+    """The simulation (x: arm and grains, d: containers), and the env's filming hook."""
 
     scene: Scene
     data: mujoco.MjData
     env: Environment
-    last: dict[str, Any] = field(default_factory=dict)  # what the last scoop measured
     on_frame: Callable[[], None] | None = None  # called every ``frame_every`` physics steps
     frame_every: int = 0
 

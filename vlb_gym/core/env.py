@@ -1,0 +1,188 @@
+"""The one contract every vlb-gym environment meets: :class:`PrimitiveEnv`.
+
+An environment whose ``step()`` runs one whole motion primitive. The base class owns what all of
+them share -- the primitives by name, the action <-> (primitive, parameter) encoding, ``step`` =
+decode -> :func:`~vlb_gym.core.primitive.execute` -> ``info``, the render-mode check, the reset
+guard, ``state``, the words for the sampling distribution, filming, and what behaviors need. A
+subclass supplies its primitives and spaces (in ``__init__``), its state sampler, its observation,
+its helpers and the words for its distribution; see ``docs/new_env.md`` for a worked example.
+
+The action encoding: with one primitive, the action *is* its parameter (the action space is the
+primitive's parameter space); with several primitives whose parameter spaces are the same
+``MultiDiscrete``, the action is ``[primitive index, *parameter]``. Subclasses with other needs
+override :meth:`PrimitiveEnv.encode_action` and :meth:`PrimitiveEnv.decode_action`.
+"""
+
+from __future__ import annotations
+
+import abc
+from collections.abc import Callable, Sequence
+from typing import Any, Generic, TypeVar
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from .helpers import Helpers
+from .primitive import MotionPrimitive, Outcome, execute
+
+State = TypeVar("State")
+FrameCallback = Callable[[np.ndarray], None]
+
+
+class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
+    """Base class of environments whose ``step()`` runs one whole motion primitive.
+
+    Subclasses call ``super().__init__(primitives, observation_space, render_mode)`` and
+    implement :meth:`sample_state`, :meth:`observation`, :meth:`make_helpers` and
+    :meth:`sampling_distribution`; they may override :meth:`reset_info`, :meth:`step_info`,
+    :meth:`reward`, :meth:`render` and :meth:`film`. Every step's ``info`` holds ``primitive``,
+    ``param``, ``admissible``, ``certificate`` (and ``reason`` when it failed), the parts'
+    certificates and the measurements of the primitive (:class:`~vlb_gym.core.primitive.Outcome`),
+    plus what :meth:`step_info` adds. The env never terminates by itself: a behavior decides when
+    it has finished (task termination for RL is a wrapper, in :mod:`vlb_gym.baselines`).
+    """
+
+    env_id: str = ""
+    metadata: dict[str, Any] = {"render_modes": [], "render_fps": 4}
+
+    def __init__(self, primitives: Sequence[MotionPrimitive[State]], observation_space: gym.Space,
+                 render_mode: str | None = None):
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode={render_mode!r} is not supported; "
+                             f"use one of {self.metadata['render_modes']} or None")
+        self.render_mode = render_mode
+        self.primitives: dict[str, MotionPrimitive[State]] = {p.name: p for p in primitives}
+        self.primitive_order = tuple(primitives)  # index in the action encoding
+        self.observation_space = observation_space
+        self.action_space = self._action_space()
+        self._state: State | None = None
+        self._on_frame: FrameCallback | None = None
+
+    # -- what a subclass supplies ----------------------------------------------------------------
+    @abc.abstractmethod
+    def sample_state(self) -> State:
+        """Draw ``(x, d)`` from the sampling distribution with ``self.np_random``."""
+
+    @abc.abstractmethod
+    def observation(self) -> Any:
+        """The observation of the current state (an element of ``observation_space``)."""
+
+    @abc.abstractmethod
+    def make_helpers(self) -> Helpers:
+        """Fresh helpers (the paper's E-functions) reading this env's observations."""
+
+    @abc.abstractmethod
+    def sampling_distribution(self) -> str:
+        """The distribution ``reset()`` samples from, in words: what a guarantee holds for."""
+
+    def reset_info(self) -> dict[str, Any]:
+        """``info`` returned by ``reset``."""
+        return {}
+
+    def step_info(self, outcome: Outcome) -> dict[str, Any]:
+        """What the env adds to (or how it presents) a step's ``info``, after the primitive."""
+        return {}
+
+    def reward(self, outcome: Outcome) -> float:
+        """The step's reward; 0 by default (rho_B, not rewards, scores behaviors)."""
+        return 0.0
+
+    # -- the action encoding ------------------------------------------------------------------
+    def _action_space(self) -> gym.Space:
+        first = self.primitive_order[0].param_space
+        if len(self.primitive_order) == 1:
+            return first
+        if isinstance(first, spaces.MultiDiscrete) and all(
+                p.param_space == first for p in self.primitive_order):
+            return spaces.MultiDiscrete([len(self.primitive_order), *np.asarray(first.nvec).ravel()])
+        raise TypeError("several primitives need MultiDiscrete parameter spaces of one shape; "
+                        "override encode_action and decode_action for other layouts")
+
+    def _layout(self) -> str:
+        if len(self.primitive_order) == 1:
+            return f"the parameter of {self.primitive_order[0].name!r}"
+        names = ", ".join(f"{k} {p.name}" for k, p in enumerate(self.primitive_order))
+        return f"an integer array [primitive ({names}), *parameter]"
+
+    def encode_action(self, primitive: str, param: Any) -> np.ndarray:
+        """The action running ``primitive`` with ``param``; ``ValueError`` if ``param`` is not in
+        the primitive's parameter space."""
+        if primitive not in self.primitives:
+            raise ValueError(f"unknown primitive {primitive!r}")
+        space = self.primitives[primitive].param_space
+        try:
+            value = np.asarray(param, dtype=space.dtype)
+        except (TypeError, ValueError, OverflowError):
+            value = None
+        if value is None or value.shape != space.shape or not space.contains(value) or (
+                isinstance(space, spaces.MultiDiscrete) and not _integers(param)):
+            raise ValueError(f"{primitive} parameter {param!r} is not in its parameter space "
+                             f"{space}")
+        if len(self.primitive_order) == 1:
+            return value
+        index = list(self.primitives).index(primitive)
+        return np.concatenate([[index], value.ravel()]).astype(self.action_space.dtype)
+
+    def decode_action(self, action: Any) -> tuple[MotionPrimitive[State], Any]:
+        """The primitive and parameter an action names; ``ValueError`` outside the action
+        space. Parameters are plain tuples of Python numbers."""
+        space = self.action_space
+        array = np.asarray(action)
+        kind = "iu" if isinstance(space, spaces.MultiDiscrete) else "fiu"
+        if array.shape != space.shape or array.dtype.kind not in kind or not space.contains(
+                array.astype(space.dtype)):
+            raise ValueError(f"action {action!r} is not in the action space {space}: expected "
+                             f"{self._layout()}")
+        values = array.tolist()
+        if len(self.primitive_order) == 1:
+            cast = float if isinstance(space, spaces.Box) else int
+            return self.primitive_order[0], tuple(cast(v) for v in array.ravel().tolist())
+        return self.primitive_order[values[0]], tuple(values[1:])
+
+    # -- gymnasium API -------------------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        self._state = self.sample_state()
+        self._frame()
+        return self.observation(), self.reset_info()
+
+    def step(self, action: Any):
+        state = self.state
+        primitive, param = self.decode_action(action)
+        outcome = execute(primitive, state, param, self.np_random)
+        info = {**outcome.as_info(), **self.step_info(outcome)}
+        self._frame()
+        return self.observation(), self.reward(outcome), False, False, info
+
+    @property
+    def state(self) -> State:
+        """The joint state (x, d); for analysis, tests and the env's own primitives, not for
+        policies (they see observations)."""
+        if self._state is None:
+            raise RuntimeError("call reset() before using the environment")
+        return self._state
+
+    # -- what behaviors and tools use ----------------------------------------------------------
+    def inadmissible_reason(self, primitive: str, param: Any) -> str | None:
+        """None when ``param`` is admissible for ``primitive`` now, else why not (judged with
+        the true state, as admissibility is)."""
+        return self.primitives[primitive].inadmissible_reason(self.state, param)
+
+    def film(self, callback: FrameCallback | None) -> None:
+        """Call ``callback`` with every frame the env shows (after reset and after each
+        primitive, by default; envs that simulate continuous motion film it at ``render_fps``);
+        None stops filming. Needs a ``render_mode``."""
+        if callback is not None and self.render_mode is None:
+            raise ValueError("filming needs a render_mode")
+        self._on_frame = callback
+
+    def _frame(self) -> None:
+        if self._on_frame is not None:
+            self._on_frame(self.render())
+
+
+def _integers(param: Any) -> bool:
+    values = np.asarray(param, dtype=object).ravel()
+    return all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in values)
+
