@@ -1,5 +1,9 @@
 """The ``vlb`` command line: verify behaviors and agents, plan campaigns, replay and render
-episodes, synthesize behaviors from language, train and compare baselines."""
+episodes, synthesize behaviors from language, train and compare baselines.
+
+Building the parser imports nothing beyond gymnasium (which registering the envs needs), so that
+``vlb --help`` starts at once: each command imports scipy, networkx, pydantic, MuJoCo, torch, ...
+when it runs, if it needs them."""
 
 from __future__ import annotations
 
@@ -7,7 +11,6 @@ import os
 import sys
 
 import vlb_gym
-from vlb_gym.core.spec import BehaviorSpecError
 
 from . import baselines, language, library, verify
 from .common import Parser, UsageError
@@ -37,7 +40,8 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"vlb {args.command}: interrupted", file=sys.stderr)
         return 130
-    except (UsageError, BehaviorSpecError, OSError, ValueError, ImportError) as exc:
-        # InputFileError (an unusable input file) is a ValueError
+    except (UsageError, OSError, ValueError, ImportError) as exc:
+        # BehaviorSpecError (an invalid behavior) and InputFileError (an unusable input file)
+        # are ValueErrors
         print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
         return 2

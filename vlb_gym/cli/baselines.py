@@ -48,16 +48,19 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                          description="Train PPO, A2C or MaskablePPO (invalid-action masking) on a "
                          "task, on vectorized envs, logging to the SB3 logger (and TensorBoard "
                          "with --tensorboard); saves AGENT.zip + AGENT.json at every budget.")
-    tt.add_argument("env_id", metavar="ENV_ID")
-    tt.add_argument("--task", required=True, choices=sorted(TASKS))
-    tt.add_argument("--algo", required=True, choices=ALGORITHMS)
+    tt.add_argument("env_id", metavar="ENV_ID", help="the task's environment, e.g. "
+                    "VLB-GridExplore-v0")
+    tt.add_argument("--task", required=True, choices=sorted(TASKS), help="what to learn")
+    tt.add_argument("--algo", required=True, choices=ALGORITHMS, help="the RL algorithm")
     tt.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS",
                     help="checkpoints in environment steps (default: the task's)")
-    tt.add_argument("--seed", type=count(0), default=0)
-    tt.add_argument("--n-envs", type=count(1), default=4)
-    tt.add_argument("--out", default="agents", metavar="DIR")
-    tt.add_argument("--tensorboard", metavar="DIR")
-    tt.add_argument("--verbose", type=int, default=0, choices=[0, 1, 2])
+    tt.add_argument("--seed", type=count(0), default=0, help="training seed")
+    tt.add_argument("--n-envs", type=count(1), default=4, metavar="N",
+                    help="vectorized environments")
+    tt.add_argument("--out", default="agents", metavar="DIR", help="where checkpoints go")
+    tt.add_argument("--tensorboard", metavar="DIR", help="also log to TensorBoard here")
+    tt.add_argument("--verbose", type=int, default=0, choices=[0, 1, 2],
+                    help="SB3 verbosity")
     tt.set_defaults(func=cmd_baseline_train)
 
     c = sub.add_parser("bench", help="benchmarks")
@@ -67,12 +70,20 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                          "graph (scripted paper replies) and RL agents at each training budget, "
                          "verified on the same N episodes and seeds; writes a Markdown table "
                          "and a plot to --out.")
-    cc.add_argument("--out", default="results", metavar="DIR")
-    cc.add_argument("--tasks", nargs="+", default=sorted(TASKS), choices=sorted(TASKS))
-    cc.add_argument("--algos", nargs="+", default=list(ALGORITHMS), choices=ALGORITHMS)
-    cc.add_argument("--episodes", type=count(1), default=100)
-    cc.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS")
-    cc.add_argument("--seed", type=count(0), default=0)
-    cc.add_argument("--n-envs", type=count(1), default=4)
-    cc.add_argument("--workers", type=count(1), default=1)
+    cc.add_argument("--out", default="results", metavar="DIR",
+                    help="where the table, the plot and the agents go")
+    cc.add_argument("--tasks", nargs="+", default=sorted(TASKS), choices=sorted(TASKS),
+                    metavar="TASK", help="tasks to compare")
+    cc.add_argument("--algos", nargs="+", default=list(ALGORITHMS), choices=ALGORITHMS,
+                    metavar="ALGO", help="RL algorithms to train")
+    cc.add_argument("--episodes", type=count(1), default=100, metavar="N",
+                    help="verification episodes per graph and agent")
+    cc.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS",
+                    help="training checkpoints in environment steps (default: each task's)")
+    cc.add_argument("--seed", type=count(0), default=0,
+                    help="seed of training and of the verification campaigns")
+    cc.add_argument("--n-envs", type=count(1), default=4, metavar="N",
+                    help="vectorized environments in training")
+    cc.add_argument("--workers", type=count(1), default=1, metavar="N",
+                    help="verification worker processes")
     cc.set_defaults(func=cmd_bench_compare)

@@ -1,4 +1,5 @@
-"""What every ``vlb`` command shares: argument types, env and output checks, the usage error."""
+"""What every ``vlb`` command shares: the parser, argument types, env and output checks, the
+usage error."""
 
 from __future__ import annotations
 
@@ -7,22 +8,42 @@ import json
 import math
 import os
 import sys
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import gymnasium as gym
 
 import vlb_gym
-from vlb_gym.core.compiler import CompiledBehavior
+
+if TYPE_CHECKING:
+    from vlb_gym.core.compiler import CompiledBehavior
 
 
 class UsageError(Exception):
     """Bad input from the command line; printed without a traceback, exit code 2."""
 
 
+class HelpFormatter(argparse.HelpFormatter):
+    """Help that ends with the default of each option that has one worth stating (not None,
+    False or an empty list), as it would be typed."""
+
+    def _expand_help(self, action: argparse.Action) -> str:
+        text = super()._expand_help(action)
+        default = action.default
+        if default is None or default is False or default == [] or default is argparse.SUPPRESS:
+            return text
+        shown = " ".join(map(str, default)) if isinstance(default, (list, tuple)) else default
+        return f"{text} (default: {shown})"
+
+
 class Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line, like every other error of ``vlb``."""
+    """An argument parser whose errors are one line, like every other error of ``vlb``, and
+    whose help states defaults; its subcommands' parsers are Parsers too."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("formatter_class", HelpFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
@@ -48,7 +69,7 @@ def seconds(text: str) -> float:
     return value
 
 
-def count(minimum: int):
+def count(minimum: int) -> Callable[[str], int]:
     def parse(text: str) -> int:
         try:
             value = int(text)
@@ -172,11 +193,12 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--base-url", help="OpenAI-compatible server, e.g. "
                    "https://api.openai.com/v1 or http://127.0.0.1:11434/v1 (Ollama)")
     p.add_argument("--model", help="model name at that server")
-    p.add_argument("--api-key-env", default="OPENAI_API_KEY",
-                   help="environment variable holding the API key (default OPENAI_API_KEY)")
+    p.add_argument("--api-key-env", default="OPENAI_API_KEY", metavar="NAME",
+                   help="environment variable holding the API key")
     p.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
-                   default="json_schema", help="what the server supports (default json_schema)")
-    p.add_argument("--timeout", type=seconds, default=60.0, help="seconds per request")
-    p.add_argument("--retries", type=count(0), default=3, help="retries per request")
+                   default="json_schema", help="what the server supports")
+    p.add_argument("--timeout", type=seconds, default=60.0, metavar="SECONDS",
+                   help="seconds per request")
+    p.add_argument("--retries", type=count(0), default=3, metavar="N", help="retries per request")
     p.add_argument("--scripted", metavar="FILE",
                    help="canned replies (a JSON list) instead of a live model")

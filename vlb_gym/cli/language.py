@@ -6,22 +6,24 @@ import argparse
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import gymnasium as gym
 
-from vlb_gym.abstractor.backends import BackendError
 from vlb_gym.core.files import read_limited, write_atomic
-from vlb_gym.core.library import BehaviorLibrary
-from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
 from .common import UsageError, add_model_options, check_env, check_output, count, probability
 from .library import graph_text
 from .verify import summary
 
+if TYPE_CHECKING:
+    from vlb_gym.abstractor.backends import ChatBackend
 
-def backend_from_args(args: argparse.Namespace):
-    from vlb_gym.abstractor.backends import (OpenAICompatibleBackend, ScriptedBackend,
-                                             TranscriptBackend)
+
+def backend_from_args(args: argparse.Namespace) -> ChatBackend:
+    from vlb_gym.abstractor.backends import (BackendError, OpenAICompatibleBackend,
+                                             ScriptedBackend, TranscriptBackend)
+
     chosen = [flag for flag, value in (("--scripted", args.scripted),
                                        ("--replay-transcript", args.replay_transcript),
                                        ("--base-url", args.base_url)) if value]
@@ -46,7 +48,10 @@ def backend_from_args(args: argparse.Namespace):
 
 
 def cmd_synthesize(args: argparse.Namespace) -> int:
+    from vlb_gym.abstractor.backends import BackendError
     from vlb_gym.abstractor.synthesize import SynthesisError, save, save_transcript, synthesize
+    from vlb_gym.core.library import BehaviorLibrary
+    from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
     check_env(args.env_id, {})
     backend = backend_from_args(args)
@@ -92,7 +97,9 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
 
 
 def cmd_scoop_setup(args: argparse.Namespace) -> int:
+    from vlb_gym.abstractor.backends import BackendError
     from vlb_gym.abstractor.scoop_setup import ScoopSetup, SetupError, transcript_json
+    from vlb_gym.core.library import BehaviorLibrary
 
     backend = backend_from_args(args) if (args.base_url or args.scripted) else None
     env = gym.make("VLB-Scoop-v0").unwrapped
@@ -141,7 +148,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                        "references, graph, expressions, dry run), feed errors back for repair, and "
                        "add the valid behavior to the library (or --out). A transcript of prompts, "
                        "replies and errors is saved beside the result.")
-    y.add_argument("env_id", metavar="ENV_ID")
+    y.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-GridExplore-v0")
     y.add_argument("description", metavar="DESCRIPTION", help="the desired behavior, in words")
     y.add_argument("--info", metavar="FILE", help="extra information for the model (the "
                    "paper's string I)")
@@ -151,15 +158,16 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "is used and the model is not asked")
     y.add_argument("--out", metavar="FILE", help="write here instead of the user library")
     y.add_argument("--force", action="store_true", help="replace an existing file")
-    y.add_argument("--max-rounds", type=count(1), default=3,
-                   help="replies to try, repairs included (default 3)")
+    y.add_argument("--max-rounds", type=count(1), default=3, metavar="N",
+                   help="replies to try, repairs included")
     add_model_options(y)
     y.add_argument("--replay-transcript", metavar="FILE",
                    help="replay the replies of an earlier synthesize transcript")
     y.add_argument("--verify", type=count(1), metavar="N",
                    help="then verify the result with N episodes")
-    y.add_argument("--epsilon", type=probability, default=0.05, help="for --verify")
-    y.add_argument("--seed", type=count(0), default=0, help="for --verify")
+    y.add_argument("--epsilon", type=probability, default=0.05, metavar="EPS",
+                   help="with --verify: the claim is P[success] >= 1 - EPS")
+    y.add_argument("--seed", type=count(0), default=0, help="with --verify: the campaign seed")
     y.set_defaults(func=cmd_synthesize)
 
     z = sub.add_parser("scoop-setup", help="choose the scooping sensing pose in words",
@@ -170,7 +178,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                        "scoop_repeatedly in the behavior library. Reads requests from stdin.")
     z.add_argument("--name", default="my_scoop", help="name of the behavior to write")
     z.add_argument("--images", default="scoop_setup", metavar="DIR",
-                   help="where the camera views go (default ./scoop_setup)")
+                   help="where the camera views go")
     z.add_argument("--seed", type=count(0), default=0, help="which container placement to show")
     z.add_argument("--force", action="store_true", help="replace a behavior of that name")
     add_model_options(z)

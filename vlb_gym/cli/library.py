@@ -4,22 +4,37 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import TYPE_CHECKING
 
 import gymnasium as gym
 
-from vlb_gym.core.library import BehaviorLibrary, compile_for
-from vlb_gym.core.spec import json_schema
+import vlb_gym
 
-from .common import check_env
+from .common import UsageError, check_env
+
+if TYPE_CHECKING:
+    from vlb_gym.core.compiler import CompiledBehavior
 
 
 def cmd_behaviors(args: argparse.Namespace) -> int:
+    from vlb_gym.core.library import BehaviorLibrary, compile_spec
+
+    library = BehaviorLibrary()
     if args.name is None:
-        for name in BehaviorLibrary().names():
+        for name in library.names():
             print(name)
         return 0
-    check_env(args.env_id, {})
-    compiled = compile_for(args.name, gym.make(args.env_id))
+    spec, source, base_dir = library.resolve(args.name)
+    env_id = args.env_id or spec.env
+    if env_id is None:
+        raise UsageError(f"{args.name}: the behavior names no env; give one with --env "
+                         f"({', '.join(vlb_gym.ENV_IDS)})")
+    check_env(env_id, {})
+    env = gym.make(env_id)
+    try:
+        compiled = compile_spec(spec, env, source, base_dir, library)
+    finally:
+        env.close()
     if args.json:
         print(compiled.spec.model_dump_json(by_alias=True, indent=2, exclude_defaults=True))
         return 0
@@ -27,7 +42,7 @@ def cmd_behaviors(args: argparse.Namespace) -> int:
     return 0
 
 
-def graph_text(compiled) -> str:
+def graph_text(compiled: CompiledBehavior) -> str:
     """The nodes and edges of a compiled behavior, one per line."""
     lines = [f"{compiled.name}: {compiled.spec.description}"]
     for node in compiled.spec.nodes:
@@ -43,6 +58,8 @@ def graph_text(compiled) -> str:
 
 
 def cmd_schema(args: argparse.Namespace) -> int:
+    from vlb_gym.core.spec import json_schema
+
     print(json.dumps(json_schema(), indent=2))
     return 0
 
@@ -51,9 +68,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     b = sub.add_parser("behaviors", help="list the behavior library, or show one behavior",
                        description="Without NAME, list the library (shipped behaviors and the "
                        "user's, in $VLB_BEHAVIOR_DIR); with NAME (or a file), check it against "
-                       "ENV and print its graph.")
-    b.add_argument("name", nargs="?", metavar="NAME_OR_FILE")
-    b.add_argument("--env", dest="env_id", default="VLB-GridExplore-v0")
+                       "its environment and print its graph.")
+    b.add_argument("name", nargs="?", metavar="NAME_OR_FILE",
+                   help="a behavior name or a behavior JSON file")
+    b.add_argument("--env", dest="env_id", metavar="ENV_ID",
+                   help="check against this environment (default: the behavior's 'env')")
     b.add_argument("--json", action="store_true", help="print the behavior file")
     b.set_defaults(func=cmd_behaviors)
     s = sub.add_parser("schema", help="print the JSON Schema of behavior files")

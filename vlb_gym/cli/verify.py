@@ -12,10 +12,6 @@ import gymnasium as gym
 import numpy as np
 
 from vlb_gym.core.files import write_atomic
-from vlb_gym.core.library import load_behavior
-from vlb_gym.verify import bounds
-from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed, run_campaign
-from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
 
 from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check_output,
@@ -23,6 +19,8 @@ from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
+    from vlb_gym.verify.campaign import CampaignConfig, build, run_campaign
+
     kwargs = env_kwargs(args.env_kwarg)
     if args.policy:
         from vlb_gym.baselines.train import agent_files, policy_env_kwargs
@@ -92,6 +90,8 @@ def _rate(value: float) -> str:
 
 def summary(report: dict[str, Any], report_path: str | None = None) -> str:
     """The human-readable outcome of a campaign."""
+    from vlb_gym.verify import bounds
+
     lines = [
         f"{report['env_id']} / {report['behavior']}: {report['episodes']} episodes "
         f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
@@ -119,6 +119,8 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
+    from vlb_gym.verify import bounds
+
     n = bounds.min_episodes(args.epsilon, args.confidence, args.failures)
     if args.json:
         print(json.dumps({"epsilon": args.epsilon, "confidence": args.confidence,
@@ -132,6 +134,9 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
+    from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed
+    from vlb_gym.verify.episode import run_episode
+
     kwargs = env_kwargs(args.env_kwarg)
     check_env(args.env_id, kwargs)
     seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
@@ -149,6 +154,9 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 def cmd_render(args: argparse.Namespace) -> int:
     from PIL import Image
+
+    from vlb_gym.core.library import load_behavior
+    from vlb_gym.verify.episode import run_episode
 
     kwargs = env_kwargs(args.env_kwarg)
     check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"})
@@ -193,14 +201,16 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                         "with AGENT.json beside it); its training env kwargs apply, --env-kwarg "
                         "may add to them. Loading it runs code from the file (pickle): load only "
                         "agents you trust")
-    v.add_argument("--episodes", required=True, type=count(1), metavar="N")
+    v.add_argument("--episodes", required=True, type=count(1), metavar="N",
+                   help="number of episodes, fixed in advance (see 'vlb plan')")
     v.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
                    help="the claim is P[success] >= 1 - EPS")
     v.add_argument("--delta", type=probability, default=0.05,
-                   help="lower bound at confidence level 1 - DELTA (default 0.05)")
-    v.add_argument("--seed", type=count(0), default=0, help="campaign seed (default 0)")
-    v.add_argument("--workers", type=count(1), default=1,
-                   help="processes (default 1; at most one per CPU and per episode)")
+                   help="lower bound at confidence level 1 - DELTA")
+    v.add_argument("--seed", type=count(0), default=0,
+                   help="campaign seed: the episodes' reset seeds derive from it")
+    v.add_argument("--workers", type=count(1), default=1, metavar="N",
+                   help="worker processes, at most one per CPU and per episode")
     v.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
                    "campaign is done (replacing the file, atomically, if it exists)")
     v.add_argument("--episodes-out", metavar="PATH",
@@ -216,17 +226,21 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("plan", help="print the number of episodes a guarantee needs",
                        description="Least N such that N episodes with at most K failures give "
                        "confidence C that P[success] >= 1 - EPS.")
-    p.add_argument("--epsilon", required=True, type=probability, metavar="EPS")
-    p.add_argument("--confidence", required=True, type=probability, metavar="C")
-    p.add_argument("--failures", type=count(0), default=0, metavar="K")
+    p.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
+                   help="the claim is P[success] >= 1 - EPS")
+    p.add_argument("--confidence", required=True, type=probability, metavar="C",
+                   help="the confidence wanted in the claim")
+    p.add_argument("--failures", type=count(0), default=0, metavar="K",
+                   help="failures the campaign may see and still make the claim")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_plan)
 
     r = sub.add_parser("replay", help="re-run one episode step by step",
                        description="Re-run one episode from its reset seed (as listed in a "
                        "report's failed_episodes) and print every primitive with its certificate.")
-    r.add_argument("env_id", metavar="ENV_ID")
-    r.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
+    r.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-GridExplore-v0")
+    r.add_argument("--behavior", required=True, metavar="NAME_OR_FILE",
+                   help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
     r.add_argument("--seed", required=True, type=count(0),
                    help="the episode's reset seed, or the campaign seed with --index")
     r.add_argument("--index", type=count(0), help="episode index within campaign --seed")
@@ -239,11 +253,12 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                        description="Run one episode (reset seed --seed) and write what the "
                        "environment's rgb_array rendering shows as a GIF; environments that film "
                        "their primitives (VLB-Scoop-v0) give the whole motion.")
-    w.add_argument("env_id", metavar="ENV_ID")
-    w.add_argument("--behavior", required=True, metavar="NAME_OR_FILE")
-    w.add_argument("--seed", type=count(0), default=0)
+    w.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-Scoop-v0")
+    w.add_argument("--behavior", required=True, metavar="NAME_OR_FILE",
+                   help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
+    w.add_argument("--seed", type=count(0), default=0, help="the episode's reset seed")
     w.add_argument("--out", required=True, metavar="FILE.gif",
                    help="the animation (replaced, atomically, if it exists)")
-    w.add_argument("--fps", type=count(1), default=10)
+    w.add_argument("--fps", type=count(1), default=10, help="frames per second of the animation")
     add_env_kwarg(w)
     w.set_defaults(func=cmd_render)

@@ -1,0 +1,134 @@
+"""``vlb`` starts quickly, documents every option, and ``vlb behaviors`` finds a behavior's env."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+from collections.abc import Iterator
+
+import pytest
+
+from vlb_gym.cli import main, parser
+
+from .conftest import explore_doc
+
+#: what no ``--help`` may import: the commands import these when they run
+HEAVY = ("scipy", "mujoco", "torch", "stable_baselines3", "networkx", "pydantic", "httpx",
+         "vlb_gym.envs", "vlb_gym.verify")
+
+HELPS = [["--help"], ["--version"], ["verify", "--help"], ["plan", "--help"],
+         ["replay", "--help"], ["render", "--help"], ["behaviors", "--help"],
+         ["schema", "--help"], ["synthesize", "--help"], ["scoop-setup", "--help"],
+         ["baseline", "--help"], ["baseline", "train", "--help"], ["bench", "--help"],
+         ["bench", "compare", "--help"]]
+
+
+def python(code: str) -> str:
+    """Run ``code`` in a fresh interpreter (the tests' own imports would hide what it imports)."""
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout
+
+
+def test_help_imports_nothing_heavy():
+    code = f"""
+import contextlib, io, sys
+from vlb_gym.cli import main
+for argv in {HELPS!r}:
+    with contextlib.redirect_stdout(io.StringIO()):
+        try:
+            main(argv)
+        except SystemExit as exc:
+            assert exc.code == 0, (argv, exc.code)
+print(*[h for h in {HEAVY!r} if any(m == h or m.startswith(h + ".") for m in sys.modules)])
+"""
+    assert python(code).split() == []
+
+
+def test_import_registers_the_envs_and_names_stay_public():
+    code = """
+import sys
+import gymnasium as gym
+import vlb_gym
+heavy = sorted(m for m in sys.modules if m.startswith(("scipy", "networkx", "pydantic")))
+assert heavy == [], heavy
+gym.make("VLB-GridExplore-v0").close()
+from vlb_gym import *
+from vlb_gym.core import *
+assert issubclass(BehaviorSpecError, ValueError) and callable(load_behavior)
+assert "scoop_repeatedly" in shipped_behaviors() and RobustnessWrapper and BehaviorPolicy
+assert set(vlb_gym.__all__) <= set(dir(vlb_gym))
+print(ENV_IDS, __version__)
+"""
+    assert "VLB-Scoop-v0" in python(code)
+    python('import gymnasium as gym; gym.make("vlb_gym:VLB-GridExplore-v0").close()')
+
+
+def actions(p: argparse.ArgumentParser) -> Iterator[tuple[argparse.ArgumentParser,
+                                                          argparse.Action]]:
+    """Every argument of ``p`` and of its subcommands, recursively."""
+    for action in p._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                yield from actions(sub)
+        elif not isinstance(action, (argparse._HelpAction, argparse._VersionAction)):
+            yield p, action
+
+
+def test_every_argument_has_help_that_states_its_default():
+    checked = 0
+    for p, action in actions(parser()):
+        name = f"{p.prog} {'/'.join(action.option_strings) or action.metavar or action.dest}"
+        assert action.help and action.help.strip(), f"{name}: no help"
+        default = action.default
+        if default is None or default is False or default == []:
+            continue
+        text = p._get_formatter()._expand_help(action)
+        shown = default if isinstance(default, (list, tuple)) else [default]
+        assert "(default: " in text and all(str(v) in text for v in shown), f"{name}: {text}"
+        checked += 1
+    assert checked > 20
+
+
+def test_help_states_no_empty_defaults(capsys):
+    for argv in (["verify", "--help"], ["synthesize", "--help"]):
+        with pytest.raises(SystemExit):
+            main(argv)
+        out = capsys.readouterr().out
+        assert "default: None" not in out and "default: False" not in out
+        assert "default: []" not in out
+
+
+def test_behaviors_takes_the_env_from_the_behavior(capsys):
+    pytest.importorskip("mujoco")
+    assert main(["behaviors", "scoop_repeatedly"]) == 0
+    assert "node scoop: primitive scoop [start] [terminal]" in capsys.readouterr().out
+
+
+def test_behaviors_env_overrides_and_is_checked(write_behavior, capsys):
+    doc = explore_doc()
+    del doc["env"]
+    path = write_behavior(doc)
+    assert main(["behaviors", str(path), "--env", "VLB-GridExplore-v0"]) == 0
+    assert "node sense: primitive sense [start] [terminal]" in capsys.readouterr().out
+    assert main(["behaviors", "explore_until_goal", "--env", "VLB-Scoop-v0"]) == 2
+    assert "written for 'VLB-GridExplore-v0', not 'VLB-Scoop-v0'" in capsys.readouterr().err
+
+
+def test_behavior_without_env_needs_env_option(write_behavior):
+    doc = explore_doc()
+    del doc["env"]
+    path = write_behavior(doc)
+    proc = subprocess.run([sys.executable, "-m", "vlb_gym.cli", "behaviors", str(path)],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert proc.stderr.startswith("vlb behaviors: error: ") and proc.stderr.count("\n") == 1
+    assert "--env" in proc.stderr
+
+
+def test_behaviors_json_prints_the_file(capsys):
+    assert main(["behaviors", "explore_until_goal", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["env"] == "VLB-GridExplore-v0"
