@@ -60,8 +60,8 @@ def extend(inner: st.SearchStrategy[str]) -> st.SearchStrategy[str]:
         .map(lambda t: f"{t[0]}({t[1][0]}, {t[1][1]})"),
         st.tuples(st.sampled_from(["label", "adjacent"]), inner).map(lambda t: f"{t[0]}({t[1]})"),
         pair.map(lambda p: f"{p[0]}[{p[1]}]"),
-        st.tuples(inner, st.sampled_from(["", "1", "-1", "big"]), st.sampled_from(["", ":2", ":-1"]))
-        .map(lambda t: f"{t[0]}[{t[1]}:{t[2].lstrip(':')}]"),
+        st.tuples(inner, st.sampled_from(["", "1", "-1", "big"]),
+                  st.sampled_from(["", "2", "-1"])).map(lambda t: f"{t[0]}[{t[1]}:{t[2]}]"),
         st.lists(inner, max_size=4).map(lambda es: "[" + ", ".join(es) + "]"),
         st.lists(inner, min_size=2, max_size=3).map(lambda es: "(" + ", ".join(es) + ")"),
         st.tuples(inner, inner).map(lambda t: f"[{t[0]} for v in {t[1]}]"),

@@ -6,10 +6,11 @@ are imported on first use, so that importing the package (and starting ``vlb``) 
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from gymnasium.envs.registration import register, registry
+
+from ._lazy import lazy_names
 
 if TYPE_CHECKING:
     from .core import BehaviorPolicy, BehaviorSpecError, load_behavior, shipped_behaviors
@@ -17,28 +18,20 @@ if TYPE_CHECKING:
 
 __version__ = "0.1.0"
 
-ENV_IDS = ("VLB-GridExplore-v0", "VLB-Scoop-v0")
+#: Every environment of the package, registered on import: (id, entry point, step bound). The
+#: grid's entry point applies the RL task wrapper for ``gym.make(..., task=...)``.
+ENVS = (
+    ("VLB-GridExplore-v0", "vlb_gym.baselines.tasks:make_grid_explore", 500),
+    ("VLB-Scoop-v0", "vlb_gym.envs.scoop:ScoopEnv", 20),  # needs the [scoop] extra (mujoco)
+)
+ENV_IDS = tuple(env_id for env_id, _, _ in ENVS)
 
-if "VLB-GridExplore-v0" not in registry:
-    register(id="VLB-GridExplore-v0", entry_point="vlb_gym.baselines.tasks:make_grid_explore",
-             max_episode_steps=500)
-if "VLB-Scoop-v0" not in registry:  # needs the [scoop] extra (mujoco)
-    register(id="VLB-Scoop-v0", entry_point="vlb_gym.envs.scoop:ScoopEnv", max_episode_steps=20)
+for _id, _entry_point, _steps in ENVS:
+    if _id not in registry:
+        register(id=_id, entry_point=_entry_point, max_episode_steps=_steps)
 
-_LAZY = {"BehaviorPolicy": ".core", "BehaviorSpecError": ".core", "load_behavior": ".core",
-         "shipped_behaviors": ".core", "RobustnessWrapper": ".wrappers"}
-
-__all__ = ["ENV_IDS", "BehaviorPolicy", "BehaviorSpecError", "RobustnessWrapper",
+__all__ = ["ENV_IDS", "ENVS", "BehaviorPolicy", "BehaviorSpecError", "RobustnessWrapper",
            "load_behavior", "shipped_behaviors", "__version__"]
-
-
-def __getattr__(name: str) -> Any:  # PEP 562
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_LAZY[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_LAZY})
+__getattr__, __dir__ = lazy_names(__name__, globals(), {
+    ".core": ("BehaviorPolicy", "BehaviorSpecError", "load_behavior", "shipped_behaviors"),
+    ".wrappers": ("RobustnessWrapper",)})

@@ -2,11 +2,12 @@
 
 Layers, in order, each failing with a :class:`BehaviorSpecError` whose ``layer`` names it and whose
 message is fed back to the model: ``json`` (the reply parses), ``schema`` (it is a behavior
-document), ``references`` (ids unique; primitives, sub-behaviors, nodes, variables exist; sub-behaviors
-are library behaviors named, never paths; the name is free), ``graph`` (every node reachable from the start, a terminal from every node),
-``expressions`` (whitelisted syntax and names only), ``dry-run`` (a few sampled episodes run
-without a run-time error, each chosen parameter inside its primitive's space; every evaluation
-runs under its work budget, so a hostile reply fails this layer instead of hanging).
+document), ``references`` (ids unique; primitives, sub-behaviors, nodes, variables exist;
+sub-behaviors are library behaviors named, never paths; the name is free), ``graph`` (every node
+reachable from the start, a terminal from every node), ``expressions`` (whitelisted syntax and
+names only), ``dry-run`` (a few sampled episodes run without a run-time error, each chosen
+parameter inside its primitive's space; every evaluation runs under its work budget, so a hostile
+reply fails this layer instead of hanging).
 """
 
 from __future__ import annotations

@@ -48,7 +48,6 @@ def backend_from_args(args: argparse.Namespace) -> ChatBackend:
 
 
 def cmd_synthesize(args: argparse.Namespace) -> int:
-    from vlb_gym.abstractor.backends import BackendError
     from vlb_gym.abstractor.synthesize import SynthesisError, save, save_transcript, synthesize
     from vlb_gym.core.library import BehaviorLibrary
     from vlb_gym.verify.campaign import CampaignConfig, run_campaign
@@ -69,15 +68,11 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
     try:
         result = synthesize(args.env_id, args.description, backend, library, info,
                             tuple(args.uses), args.name, args.max_rounds)
-    except (SynthesisError, BackendError) as exc:
-        transcript = getattr(exc, "transcript", None)
-        if transcript is not None:
-            where = Path(args.out).with_suffix(".failed.transcript.json") if args.out else \
-                library.directory / f"failed-{int(time.time())}.transcript.json"
-            save_transcript(transcript, where)
-            print(f"vlb synthesize: error: {exc}\n  transcript: {where}", file=sys.stderr)
-        else:
-            print(f"vlb synthesize: error: {exc}", file=sys.stderr)
+    except SynthesisError as exc:
+        where = Path(args.out).with_suffix(".failed.transcript.json") if args.out else \
+            library.directory / f"failed-{int(time.time())}.transcript.json"
+        save_transcript(exc.transcript, where)
+        print(f"vlb synthesize: error: {exc}\n  transcript: {where}", file=sys.stderr)
         return 1
     compiled = result.compiled
     if result.from_library:

@@ -6,8 +6,9 @@ alone costs nothing."""
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from vlb_gym._lazy import lazy_names
 
 if TYPE_CHECKING:
     from .compiler import CompiledBehavior, compile_behavior
@@ -17,29 +18,16 @@ if TYPE_CHECKING:
     from .runtime import BehaviorPolicy, BehaviorRuntimeError
     from .spec import BehaviorSpec, BehaviorSpecError, json_schema, parse_spec
 
-_MODULES = {
+__all__ = ["BehaviorPolicy", "BehaviorRuntimeError", "BehaviorSpec", "BehaviorSpecError",
+           "CompiledBehavior", "ControllerFailure", "ExpressionError", "MotionPrimitive", "Outcome",
+           "compile_behavior", "compile_for", "execute", "json_schema",
+           "load_behavior", "parse_spec", "shipped_behaviors"]
+
+__getattr__, __dir__ = lazy_names(__name__, globals(), {
     ".compiler": ("CompiledBehavior", "compile_behavior"),
     ".expressions": ("ExpressionError",),
     ".library": ("compile_for", "load_behavior", "shipped_behaviors"),
     ".primitive": ("ControllerFailure", "MotionPrimitive", "Outcome", "execute"),
     ".runtime": ("BehaviorPolicy", "BehaviorRuntimeError"),
     ".spec": ("BehaviorSpec", "BehaviorSpecError", "json_schema", "parse_spec"),
-}
-_LAZY = {name: module for module, names in _MODULES.items() for name in names}
-
-__all__ = ["BehaviorPolicy", "BehaviorRuntimeError", "BehaviorSpec", "BehaviorSpecError",
-           "CompiledBehavior", "ControllerFailure", "ExpressionError", "MotionPrimitive", "Outcome",
-           "compile_behavior", "compile_for", "execute", "json_schema",
-           "load_behavior", "parse_spec", "shipped_behaviors"]
-
-
-def __getattr__(name: str) -> Any:  # PEP 562
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_LAZY[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_LAZY})
+})

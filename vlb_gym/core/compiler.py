@@ -1,6 +1,6 @@
 """Behaviors (the paper's Definition 2): check a :class:`BehaviorSpec` and compile it.
 
-:func:`compile_behavior` checks a spec against an environment's :class:`BehaviorInterface` --
+:func:`compile_behavior` checks a spec against an environment's :class:`PrimitiveEnv` --
 references, expressions, the graph (every node reachable from the start, a terminal reachable from
 every node) -- before anything runs, and gives a :class:`CompiledBehavior`, which
 :class:`vlb_gym.core.runtime.BehaviorPolicy` runs.
@@ -9,32 +9,20 @@ every node) -- before anything runs, and gives a :class:`CompiledBehavior`, whic
 from __future__ import annotations
 
 import ast
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
 
 import networkx as nx
-import numpy as np
 
+from .env import PrimitiveEnv
 from .expressions import BUILTINS, Expression, ExpressionError
-from .helpers import Helpers, arity
-from .primitive import MotionPrimitive
+from .helpers import arity
 from .spec import BehaviorSpec, BehaviorSpecError
 
 VALUE = -1  # arity marker of names that are values, not functions
 MAX_BEHAVIOR_DEPTH = 16  # sub-behaviors nested within each other
 MAX_CALL_DEPTH = 16  # behavior functions calling each other
-
-
-class BehaviorInterface(Protocol):
-    """What an environment offers to behaviors (implemented by the env classes)."""
-
-    primitives: Mapping[str, MotionPrimitive[Any]]
-
-    def make_helpers(self) -> Helpers: ...
-
-    def encode_action(self, primitive: str, param: Any) -> np.ndarray: ...
 
 
 #: resolve(reference, base_dir) -> (spec, source, base_dir of that spec)
@@ -92,7 +80,7 @@ def _expr_names(text: str) -> set[str]:
         return set()
 
 
-def _check_references(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
+def _check_references(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
                       resolve: Resolver, base_dir: Path | None, chain: tuple[str, ...],
                       compiled: dict[str, CompiledBehavior]) -> dict[str, _Node]:
     """Layer 'references': ids unique; primitives, sub-behaviors, nodes, variables exist.
@@ -171,7 +159,7 @@ def _check_graph(spec: BehaviorSpec, nodes: dict[str, _Node], source: str) -> nx
 class _Expressions:
     """Layer 'expressions': every expression checked against the whitelist and compiled."""
 
-    def __init__(self, spec: BehaviorSpec, interface: BehaviorInterface, source: str):
+    def __init__(self, spec: BehaviorSpec, interface: PrimitiveEnv, source: str):
         self.source = source
         names: dict[str, int | None] = {n: None for n in BUILTINS}
         names.update({n: arity(f) for n, f in interface.make_helpers().functions().items()})
@@ -225,7 +213,7 @@ class _Expressions:
         return order
 
 
-def compile_behavior(spec: BehaviorSpec, interface: BehaviorInterface, source: str,
+def compile_behavior(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
                      resolve: Resolver, base_dir: Path | None = None, *,
                      _chain: tuple[str, ...] = (),
                      _compiled: dict[str, CompiledBehavior] | None = None) -> CompiledBehavior:

@@ -12,11 +12,11 @@ import os
 import re
 from importlib import resources
 from pathlib import Path
-from typing import Any
 
 import gymnasium as gym
 
 from .compiler import CompiledBehavior, compile_behavior
+from .env import PrimitiveEnv
 from .runtime import BehaviorPolicy
 from .files import InputFileError, read_limited, write_atomic
 from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
@@ -132,11 +132,12 @@ def compile_spec(spec: BehaviorSpec, env: gym.Env, source: str, base_dir: Path |
                  ) -> CompiledBehavior:
     """Compile a spec against ``env`` (wrappers are looked through), checking its env id. With
     ``names_only`` its sub-behaviors must be library behaviors named, never paths."""
-    interface: Any = env.unwrapped
-    env_id = getattr(interface, "env_id", None)
-    if spec.env is not None and env_id is not None and spec.env != env_id:
+    interface = env.unwrapped
+    if not isinstance(interface, PrimitiveEnv):
+        raise TypeError(f"behaviors run on PrimitiveEnv environments, not {type(interface).__name__}")
+    if spec.env is not None and spec.env != interface.env_id:
         raise BehaviorSpecError(f"{source}: env: behavior is written for {spec.env!r}, "
-                                f"not {env_id!r}")
+                                f"not {interface.env_id!r}")
     library = library or BehaviorLibrary()
     lookup = library.resolve_name if names_only else library.resolve
     return compile_behavior(spec, interface, source, lookup, base_dir)

@@ -18,7 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from .compiler import BehaviorInterface, CompiledBehavior
+from .compiler import CompiledBehavior
+from .env import PrimitiveEnv
 from .expressions import Budget, Expression, guard_namespace
 
 
@@ -46,7 +47,7 @@ class BehaviorPolicy:
     the primitive's space).
     """
 
-    def __init__(self, behavior: CompiledBehavior, interface: BehaviorInterface):
+    def __init__(self, behavior: CompiledBehavior, interface: PrimitiveEnv):
         self.behavior = behavior
         self._interface = interface
         self._helpers = interface.make_helpers()

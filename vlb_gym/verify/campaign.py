@@ -112,8 +112,7 @@ def iter_episodes(config: CampaignConfig, workers: int = 1) -> Iterator[EpisodeR
 def sampling_distribution(config: CampaignConfig) -> str:
     """Words for the distribution the guarantee holds under (the env's own description)."""
     env = gym.make(config.env_id, **config.env_kwargs)
-    describe = getattr(env.unwrapped, "sampling_distribution", None)
-    text = describe() if callable(describe) else f"{config.env_id}.reset() with spawned seeds"
+    text = env.unwrapped.sampling_distribution()
     env.close()
     return text
 

@@ -1,0 +1,27 @@
+"""Names of a package imported from their modules on first use (PEP 562), so that importing the
+package, and starting ``vlb``, stays quick."""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Mapping
+from typing import Any
+
+
+def lazy_names(package: str, namespace: dict[str, Any], modules: Mapping[str, tuple[str, ...]]
+               ) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
+    """A module's ``__getattr__`` and ``__dir__`` serving each name of ``modules`` (relative
+    module -> names) from its module, imported on first use and then kept in ``namespace``."""
+    lazy = {name: module for module, names in modules.items() for name in names}
+
+    def getattr_(name: str) -> Any:
+        if name not in lazy:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        value = getattr(importlib.import_module(lazy[name], package), name)
+        namespace[name] = value
+        return value
+
+    def dir_() -> list[str]:
+        return sorted({*namespace, *lazy})
+
+    return getattr_, dir_
