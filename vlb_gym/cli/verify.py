@@ -53,14 +53,11 @@ def cmd_verify(args: argparse.Namespace) -> int:
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm
         bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
-    written = 0
 
     def on_episode(result):
-        nonlocal written
         if stream:
             stream.write(json.dumps(result.to_dict()) + "\n")
             stream.flush()
-            written += 1
         if bar:
             bar.update()
 
@@ -75,6 +72,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
         if stream:
             stream.close()
     if report is None:
+        # counted in the file: Ctrl-C may fall between a line's write and any counter's update
+        written = episodes_out.read_bytes().count(b"\n") if stream else 0
         kept = f"; {written} episode(s) written to {episodes_out}" if stream else ""
         print(f"vlb verify: interrupted{kept}", file=sys.stderr)
         return 130
