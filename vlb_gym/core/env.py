@@ -95,7 +95,7 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
             return first
         if isinstance(first, spaces.MultiDiscrete) and all(
                 p.param_space == first for p in self.primitive_order):
-            return spaces.MultiDiscrete([len(self.primitive_order), *np.asarray(first.nvec).ravel()])
+            return spaces.MultiDiscrete([len(self.primitive_order), *self._nvec(first)])
         raise TypeError("several primitives need MultiDiscrete parameter spaces of one shape; "
                         "override encode_action and decode_action for other layouts")
 
@@ -111,12 +111,17 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         if primitive not in self.primitives:
             raise ValueError(f"unknown primitive {primitive!r}")
         space = self.primitives[primitive].param_space
-        try:
-            value = np.asarray(param, dtype=space.dtype)
-        except (TypeError, ValueError, OverflowError):
-            value = None
-        if value is None or value.shape != space.shape or not space.contains(value) or (
-                isinstance(space, spaces.MultiDiscrete) and not _integers(param)):
+        if isinstance(space, spaces.MultiDiscrete):
+            values = _discrete(param, self._nvec(space))
+            value = None if values is None else np.array(values, dtype=space.dtype)
+        else:
+            try:
+                value = np.asarray(param, dtype=space.dtype)
+            except (TypeError, ValueError, OverflowError):
+                value = None
+            if value is not None and (value.shape != space.shape or not space.contains(value)):
+                value = None
+        if value is None:
             raise ValueError(f"{primitive} parameter {param!r} is not in its parameter space "
                              f"{space}")
         if len(self.primitive_order) == 1:
@@ -129,16 +134,24 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         space. Parameters are plain tuples of Python numbers."""
         space = self.action_space
         array = np.asarray(action)
-        kind = "iu" if isinstance(space, spaces.MultiDiscrete) else "fiu"
-        if array.shape != space.shape or array.dtype.kind not in kind or not space.contains(
-                array.astype(space.dtype)):
+        if isinstance(space, spaces.MultiDiscrete):
+            values = (_discrete(array.tolist(), self._nvec(space))
+                      if array.shape == space.shape and array.dtype.kind in "iu" else None)
+        else:
+            values = (array.ravel().tolist() if array.shape == space.shape
+                      and array.dtype.kind in "fiu" and space.contains(array.astype(space.dtype))
+                      else None)
+        if values is None:
             raise ValueError(f"action {action!r} is not in the action space {space}: expected "
                              f"{self._layout()}")
-        values = array.tolist()
         if len(self.primitive_order) == 1:
             cast = float if isinstance(space, spaces.Box) else int
-            return self.primitive_order[0], tuple(cast(v) for v in array.ravel().tolist())
+            return self.primitive_order[0], tuple(cast(v) for v in values)
         return self.primitive_order[values[0]], tuple(values[1:])
+
+    @staticmethod
+    def _nvec(space: spaces.MultiDiscrete) -> list[int]:
+        return np.asarray(space.nvec).ravel().tolist()
 
     # -- gymnasium API -------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -182,7 +195,17 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
             self._on_frame(self.render())
 
 
-def _integers(param: Any) -> bool:
-    values = np.asarray(param, dtype=object).ravel()
-    return all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in values)
-
+def _discrete(param: Any, nvec: list[int]) -> list[int] | None:
+    """``param`` as a list of ints if it is a flat sequence of integers (not bools) with
+    ``0 <= param[k] < nvec[k]``, else None (plain Python: this runs on every step)."""
+    try:
+        values = list(param)
+    except TypeError:
+        return None
+    if len(values) != len(nvec):
+        return None
+    for value, n in zip(values, nvec):
+        if not isinstance(value, (int, np.integer)) or isinstance(value, bool) \
+                or not 0 <= value < n:
+            return None
+    return [int(v) for v in values]
