@@ -54,8 +54,11 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         self.render_mode = render_mode
         self.primitives: dict[str, MotionPrimitive[State]] = {p.name: p for p in primitives}
         self.primitive_order = tuple(primitives)  # index in the action encoding
+        self._index = {p.name: k for k, p in enumerate(primitives)}
+        self._param_nvec = {p.name: self._nvec(p.param_space) for p in primitives}
         self.observation_space = observation_space
         self.action_space = self._action_space()
+        self._action_nvec = self._nvec(self.action_space)
         self._state: State | None = None
         self._on_frame: FrameCallback | None = None
 
@@ -110,9 +113,11 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         the primitive's parameter space."""
         if primitive not in self.primitives:
             raise ValueError(f"unknown primitive {primitive!r}")
-        space = self.primitives[primitive].param_space
+        index, space = self._index[primitive], self.primitives[primitive].param_space
         if isinstance(space, spaces.MultiDiscrete):
-            values = _discrete(param, self._nvec(space))
+            values = _discrete(param, self._param_nvec[primitive])
+            if values is not None and len(self.primitive_order) > 1:
+                return np.array([index, *values], dtype=self.action_space.dtype)
             value = None if values is None else np.array(values, dtype=space.dtype)
         else:
             try:
@@ -126,7 +131,6 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
                              f"{space}")
         if len(self.primitive_order) == 1:
             return value
-        index = list(self.primitives).index(primitive)
         return np.concatenate([[index], value.ravel()]).astype(self.action_space.dtype)
 
     def decode_action(self, action: Any) -> tuple[MotionPrimitive[State], Any]:
@@ -135,8 +139,8 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         space = self.action_space
         array = np.asarray(action)
         if isinstance(space, spaces.MultiDiscrete):
-            values = (_discrete(array.tolist(), self._nvec(space))
-                      if array.shape == space.shape and array.dtype.kind in "iu" else None)
+            values = (array.tolist() if array.shape == space.shape and array.dtype.kind in "iu"
+                      and _within(array.tolist(), self._action_nvec) else None)
         else:
             values = (array.ravel().tolist() if array.shape == space.shape
                       and array.dtype.kind in "fiu" and space.contains(array.astype(space.dtype))
@@ -150,8 +154,10 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         return self.primitive_order[values[0]], tuple(values[1:])
 
     @staticmethod
-    def _nvec(space: spaces.MultiDiscrete) -> list[int]:
-        return np.asarray(space.nvec).ravel().tolist()
+    def _nvec(space: gym.Space) -> tuple[int, ...]:
+        if not isinstance(space, spaces.MultiDiscrete):
+            return ()
+        return tuple(np.asarray(space.nvec).ravel().tolist())
 
     # -- gymnasium API -------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -164,7 +170,8 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         state = self.state
         primitive, param = self.decode_action(action)
         outcome = execute(primitive, state, param, self.np_random)
-        info = {**outcome.as_info(), **self.step_info(outcome)}
+        info = outcome.as_info()
+        info.update(self.step_info(outcome))
         self._frame()
         return self.observation(), self.reward(outcome), False, False, info
 
@@ -195,17 +202,24 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
             self._on_frame(self.render())
 
 
-def _discrete(param: Any, nvec: list[int]) -> list[int] | None:
-    """``param`` as a list of ints if it is a flat sequence of integers (not bools) with
-    ``0 <= param[k] < nvec[k]``, else None (plain Python: this runs on every step)."""
+def _within(values: list[int], nvec: tuple[int, ...]) -> bool:
+    """Whether the ints ``values`` satisfy ``0 <= values[k] < nvec[k]``, with one per bound."""
+    if len(values) != len(nvec):
+        return False
+    for value, n in zip(values, nvec):
+        if not 0 <= value < n:
+            return False
+    return True
+
+
+def _discrete(param: Any, nvec: tuple[int, ...]) -> list[int] | None:
+    """``param`` as a list if it is a flat sequence of integers (not bools) with
+    ``0 <= param[k] < nvec[k]``, else None (plain Python: this runs on every decision)."""
     try:
         values = list(param)
     except TypeError:
         return None
-    if len(values) != len(nvec):
-        return None
-    for value, n in zip(values, nvec):
-        if not isinstance(value, (int, np.integer)) or isinstance(value, bool) \
-                or not 0 <= value < n:
+    for value in values:
+        if type(value) is not int and not isinstance(value, np.integer):
             return None
-    return [int(v) for v in values]
+    return values if _within(values, nvec) else None

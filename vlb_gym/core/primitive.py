@@ -43,12 +43,13 @@ class ControllerFailure(RuntimeError):
     """Raised by a controller that could not complete; the certificate is then false."""
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Outcome:
     """What one primitive execution recorded: the paper's tuple (xi, P, x_f) and its certificate.
 
     ``certificates`` holds one boolean per part of the terminal region (for primitives whose
-    region has named parts), ``details`` what the controller measured.
+    region has named parts), ``details`` what the controller measured. Read-only by convention
+    (not frozen: one is made per step, and frozen dataclasses are slow to make).
     """
 
     primitive: str
@@ -136,8 +137,9 @@ def execute(primitive: MotionPrimitive[State], state: State, param: Any,
     except ControllerFailure as exc:
         return Outcome(primitive.name, param, True, False, f"controller failed: {exc}", parts)
     violations = region.violations(state)
-    parts = {part: part not in violations for part in primitive.region_parts}
     if not violations:
-        return Outcome(primitive.name, param, True, True, None, parts, details)
+        return Outcome(primitive.name, param, True, True, None,
+                       dict.fromkeys(primitive.region_parts, True), details)
+    parts = {part: part not in violations for part in primitive.region_parts}
     return Outcome(primitive.name, param, True, False, "; ".join(violations.values()), parts,
                    details)
