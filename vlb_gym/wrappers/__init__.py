@@ -1,5 +1,6 @@
 """Gymnasium wrappers of vlb-gym."""
 
+from .behavior import BehaviorAgent, BehaviorFinished
 from .robustness import RobustnessWrapper
 
-__all__ = ["RobustnessWrapper"]
+__all__ = ["BehaviorAgent", "BehaviorFinished", "RobustnessWrapper"]
