@@ -14,7 +14,7 @@ from ._lazy import lazy_names
 
 if TYPE_CHECKING:
     from .core import BehaviorPolicy, BehaviorSpecError, load_behavior, shipped_behaviors
-    from .wrappers import RobustnessWrapper
+    from .wrappers import BehaviorAgent, BehaviorFinished, RobustnessWrapper
 
 __version__ = "0.1.0"
 
@@ -30,8 +30,9 @@ for _id, _entry_point, _steps in ENVS:
     if _id not in registry:
         register(id=_id, entry_point=_entry_point, max_episode_steps=_steps)
 
-__all__ = ["ENV_IDS", "ENVS", "BehaviorPolicy", "BehaviorSpecError", "RobustnessWrapper",
-           "load_behavior", "shipped_behaviors", "__version__"]
+__all__ = ["ENV_IDS", "ENVS", "BehaviorAgent", "BehaviorFinished", "BehaviorPolicy",
+           "BehaviorSpecError", "RobustnessWrapper", "load_behavior", "shipped_behaviors",
+           "__version__"]
 __getattr__, __dir__ = lazy_names(__name__, globals(), {
     ".core": ("BehaviorPolicy", "BehaviorSpecError", "load_behavior", "shipped_behaviors"),
-    ".wrappers": ("RobustnessWrapper",)})
+    ".wrappers": ("BehaviorAgent", "BehaviorFinished", "RobustnessWrapper")})

@@ -8,14 +8,13 @@ from typing import Any
 import gymnasium as gym
 
 
-
 def behavior_robustness(finished: bool, certificates: Iterable[bool]) -> int:
     """rho_B (the paper's eq. behavior_robustness): +1 iff the behavior finished and every
     certificate held (vacuously for none), else -1."""
     return 1 if finished and all(certificates) else -1
 
 
-class RobustnessWrapper(gym.Wrapper):
+class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     """Collects each step's certificate and writes rho_B into ``info`` when the episode ends.
 
     Works for any policy. The episode ends, and ``info`` gains the keys of :meth:`end`, when
@@ -31,6 +30,7 @@ class RobustnessWrapper(gym.Wrapper):
     """
 
     def __init__(self, env: gym.Env):
+        gym.utils.RecordConstructorArgs.__init__(self)
         super().__init__(env)
         self.certificates: list[bool] = []
         self.history: list[dict[str, Any]] = []  # every step's info, for replays
