@@ -5,7 +5,6 @@ figures it prints are the ones a campaign prints."""
 from __future__ import annotations
 
 import doctest
-import importlib.util
 import json
 import re
 import sys
@@ -16,7 +15,9 @@ from typing import Any
 
 import pytest
 
+from vlb_gym.cli import main
 from vlb_gym.cli.verify import summary
+from vlb_gym.envs.modules import import_env_module
 from vlb_gym.verify import CampaignConfig, run_campaign
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -29,14 +30,9 @@ COMMAND = ("$ vlb verify VLB-Integrator-v0 --env-module examples/integrator_env.
 
 
 def import_example() -> ModuleType:
-    """Import ``examples/integrator_env.py`` by path as module ``integrator_env`` (registering
-    VLB-Integrator-v0), once per process: the name the guide's ``import integrator_env`` gives."""
-    if "integrator_env" not in sys.modules:
-        spec = importlib.util.spec_from_file_location("integrator_env", EXAMPLE)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = module  # its entry point, and pickles, name the module
-        spec.loader.exec_module(module)
-    return sys.modules["integrator_env"]
+    """Import ``examples/integrator_env.py`` as ``--env-module`` does (registering
+    VLB-Integrator-v0): module ``integrator_env``, the name the guide's ``import`` gives."""
+    return import_env_module(str(EXAMPLE))
 
 
 def blocks(kind: str, numbered: bool = False) -> list[Any]:
@@ -98,3 +94,36 @@ def test_guide_command_prints_what_a_campaign_prints(monkeypatch):
 
 def test_example_stays_short():
     assert len(EXAMPLE.read_text().splitlines()) < 200
+
+
+def test_vlb_verifies_the_example_with_env_module(capsys, tmp_path):
+    args = ["verify", EXAMPLE_ID, "--env-module", str(EXAMPLE), "--behavior", str(EXAMPLE_BEHAVIOR),
+            "--episodes", "40", "--epsilon", "0.05", "--report", str(tmp_path / "r.json")]
+    assert main(args) == 0
+    assert main([*args[:-2], "--workers", "2", "--quiet"]) == 0  # workers import the module too
+    assert "successes 40/40" in capsys.readouterr().out
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["env_modules"] == [str(EXAMPLE)] and report["successes"] == 40
+
+
+@pytest.mark.parametrize("module, message", [
+    (None, "an env of your own needs --env-module"),
+    ("/nonexistent/env.py", "--env-module /nonexistent/env.py: FileNotFoundError"),
+    ("no_such_module_xyz", "--env-module no_such_module_xyz: ModuleNotFoundError"),
+])
+def test_env_module_errors_are_one_line(module, message, capsys):
+    flags = ["--env-module", module] if module else []
+    assert main(["verify", "VLB-Nowhere-v0", *flags, "--behavior", str(EXAMPLE_BEHAVIOR),
+                 "--episodes", "3", "--epsilon", "0.1"]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+
+
+@pytest.mark.timeout(120)
+def test_workers_that_cannot_build_the_campaign_fail_instead_of_respawning():
+    """Registered in this process only (no env_modules): each worker's set-up fails, and the
+    campaign raises that error instead of restarting workers forever."""
+    import_example()
+    config = CampaignConfig(EXAMPLE_ID, str(EXAMPLE_BEHAVIOR), 8, epsilon=0.05)
+    with pytest.raises(Exception, match="VLB-Integrator"):
+        run_campaign(config, workers=2)

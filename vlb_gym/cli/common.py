@@ -97,18 +97,37 @@ def env_kwargs(pairs: list[str]) -> dict[str, Any]:
     return kwargs
 
 
-def check_env(env_id: str, kwargs: dict[str, Any]) -> None:
-    """Refuse env ids that vlb-gym does not register and settings the env refuses: it is made
-    and reset once here, so that impossible settings fail now, not in every episode."""
-    if env_id not in vlb_gym.ENV_IDS:
-        raise UsageError(f"unknown environment {env_id!r} (vlb-gym registers: "
-                         f"{', '.join(vlb_gym.ENV_IDS)})")
+def env_modules(refs: list[str]) -> tuple[str, ...]:
+    """Import the ``--env-module`` modules (which register the user's envs); file paths come back
+    absolute, as campaign workers import them again."""
+    from vlb_gym.envs.modules import import_env_module, is_path
+
+    for ref in refs:
+        try:
+            import_env_module(ref)
+        except Exception as exc:  # a module of the user's: any failure is their input's
+            raise UsageError(f"--env-module {ref}: {type(exc).__name__}: {exc}") from None
+    return tuple(str(Path(ref).resolve()) if is_path(ref) else ref for ref in refs)
+
+
+def check_env(env_id: str, kwargs: dict[str, Any], modules: tuple[str, ...] = ()) -> None:
+    """Refuse env ids that are neither vlb-gym's nor a PrimitiveEnv of an ``--env-module``, and
+    settings the env refuses: it is made and reset once here, so that impossible settings fail
+    now, not in every episode."""
+    from vlb_gym.core.env import PrimitiveEnv
+
+    unknown = UsageError(f"unknown environment {env_id!r} (vlb-gym registers: "
+                         f"{', '.join(vlb_gym.ENV_IDS)}; an env of your own needs --env-module)")
+    if env_id not in vlb_gym.ENV_IDS and (not modules or env_id not in gym.registry):
+        raise unknown
     steps = kwargs.get("max_episode_steps", 1)
     if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
         raise UsageError(f"{env_id}: max_episode_steps must be a positive integer (got {steps!r})")
     try:
         env = gym.make(env_id, **kwargs)
         try:
+            if not isinstance(env.unwrapped, PrimitiveEnv):
+                raise unknown
             env.reset(seed=0)
         finally:
             env.close()
@@ -184,9 +203,16 @@ def clamp_workers(requested: int, episodes: int, command: str) -> int:
     return workers
 
 
+def add_env_module(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--env-module", action="append", default=[], metavar="PATH_OR_MODULE",
+                   help="a Python file or module that registers your own environment (see "
+                   "docs/new_env.md); importing it runs its code (repeatable)")
+
+
 def add_env_kwarg(p: argparse.ArgumentParser) -> None:
     p.add_argument("--env-kwarg", action="append", default=[], metavar="NAME=VALUE",
                    help="keyword argument for gym.make, e.g. action_noise=0.5 (repeatable)")
+    add_env_module(p)
 
 
 def add_model_options(p: argparse.ArgumentParser) -> None:

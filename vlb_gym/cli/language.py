@@ -12,7 +12,8 @@ import gymnasium as gym
 
 from vlb_gym.core.files import read_limited, write_atomic
 
-from .common import UsageError, add_model_options, check_env, check_output, count, probability
+from .common import (UsageError, add_env_module, add_model_options, check_env, check_output,
+                     count, env_modules, probability)
 from .library import graph_text
 from .verify import summary
 
@@ -52,7 +53,8 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
     from vlb_gym.core.library import BehaviorLibrary
     from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
-    check_env(args.env_id, {})
+    modules = env_modules(args.env_module)
+    check_env(args.env_id, {}, modules)
     backend = backend_from_args(args)
     library = BehaviorLibrary()
     if args.out:  # checked before the model is asked; the transcript goes beside the behavior
@@ -86,7 +88,7 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
     print(graph_text(compiled))
     if args.verify:
         config = CampaignConfig(args.env_id, str(path) if args.out else compiled.name,
-                                args.verify, args.epsilon, seed=args.seed)
+                                args.verify, args.epsilon, seed=args.seed, env_modules=modules)
         print(summary(run_campaign(config)))
     return 0
 
@@ -163,6 +165,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     y.add_argument("--epsilon", type=probability, default=0.05, metavar="EPS",
                    help="with --verify: the claim is P[success] >= 1 - EPS")
     y.add_argument("--seed", type=count(0), default=0, help="with --verify: the campaign seed")
+    add_env_module(y)
     y.set_defaults(func=cmd_synthesize)
 
     z = sub.add_parser("scoop-setup", help="choose the scooping sensing pose in words",

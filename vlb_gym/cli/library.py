@@ -10,7 +10,7 @@ import gymnasium as gym
 
 import vlb_gym
 
-from .common import UsageError, check_env
+from .common import UsageError, add_env_module, check_env, env_modules
 
 if TYPE_CHECKING:
     from vlb_gym.core.compiler import CompiledBehavior
@@ -29,7 +29,7 @@ def cmd_behaviors(args: argparse.Namespace) -> int:
     if env_id is None:
         raise UsageError(f"{args.name}: the behavior names no env; give one with --env "
                          f"({', '.join(vlb_gym.ENV_IDS)})")
-    check_env(env_id, {})
+    check_env(env_id, {}, env_modules(args.env_module))
     env = gym.make(env_id)
     try:
         compiled = compile_spec(spec, env, source, base_dir, library)
@@ -74,6 +74,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--env", dest="env_id", metavar="ENV_ID",
                    help="check against this environment (default: the behavior's 'env')")
     b.add_argument("--json", action="store_true", help="print the behavior file")
+    add_env_module(b)
     b.set_defaults(func=cmd_behaviors)
     s = sub.add_parser("schema", help="print the JSON Schema of behavior files")
     s.set_defaults(func=cmd_schema)

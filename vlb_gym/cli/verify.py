@@ -15,7 +15,7 @@ from vlb_gym.core.files import write_atomic
 from vlb_gym.wrappers import RobustnessWrapper
 
 from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check_output,
-                     clamp_workers, count, env_kwargs, probability)
+                     clamp_workers, count, env_kwargs, env_modules, probability)
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
@@ -31,10 +31,12 @@ def cmd_verify(args: argparse.Namespace) -> int:
         if env_id != args.env_id:
             raise UsageError(f"--policy {args.policy} was trained on {env_id}, not {args.env_id}")
         kwargs = {**trained, **kwargs}
-    check_env(args.env_id, kwargs)
+    modules = env_modules(args.env_module)
+    check_env(args.env_id, kwargs, modules)
     config = CampaignConfig(args.env_id, args.policy or args.behavior, args.episodes,
                             args.epsilon, args.delta, args.seed, kwargs,
-                            stop_on_failure=not args.keep_going, policy=bool(args.policy))
+                            stop_on_failure=not args.keep_going, policy=bool(args.policy),
+                            env_modules=modules)
     env, policy = build(config)  # compile the behavior here: a bad file fails before any episode
     env.close()
     inputs = agent_files(args.policy) if args.policy else behavior_files(policy.behavior)
@@ -110,6 +112,7 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
     if failed:
         kwargs = "".join(f" --env-kwarg {k}={json.dumps(v)}"
                          for k, v in report["env_kwargs"].items())
+        kwargs += "".join(f" --env-module {m}" for m in report["env_modules"])
         lines.append(f"  replay one: vlb replay {report['env_id']} --behavior {report['behavior']} "
                      f"--seed {failed[0]['seed']}{kwargs}")
     if report_path:
@@ -137,9 +140,10 @@ def cmd_replay(args: argparse.Namespace) -> int:
     from vlb_gym.verify.episode import run_episode
 
     kwargs = env_kwargs(args.env_kwarg)
-    check_env(args.env_id, kwargs)
+    modules = env_modules(args.env_module)
+    check_env(args.env_id, kwargs, modules)
     seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
-    config = CampaignConfig(args.env_id, args.behavior, 1, env_kwargs=kwargs)
+    config = CampaignConfig(args.env_id, args.behavior, 1, env_kwargs=kwargs, env_modules=modules)
     env, policy = build(config)
     result = run_episode(env, policy, seed, stop_on_failure=not args.keep_going)
     for number, info in enumerate(env.history, 1):
@@ -158,7 +162,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     from vlb_gym.verify.episode import run_episode
 
     kwargs = env_kwargs(args.env_kwarg)
-    check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"})
+    check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"}, env_modules(args.env_module))
     env = RobustnessWrapper(gym.make(args.env_id, render_mode="rgb_array", **kwargs))
     policy = load_behavior(args.behavior, env)
     out = check_output(args.out, behavior_files(policy.behavior), True, "--out")

@@ -462,7 +462,8 @@ class Expression:
     def __init__(self, source: str, names: Mapping[str, int | None], where: str = "expression",
                  args: tuple[str, ...] | None = None):
         if not isinstance(source, str):
-            raise ExpressionError(f"{where}: expected an expression string, got {type(source).__name__}")
+            raise ExpressionError(f"{where}: expected an expression string, got "
+                                  f"{type(source).__name__}")
         if len(source) > MAX_SOURCE_CHARS:
             raise ExpressionError(f"{where}: expression longer than {MAX_SOURCE_CHARS} characters")
         try:

@@ -134,7 +134,8 @@ def compile_spec(spec: BehaviorSpec, env: gym.Env, source: str, base_dir: Path |
     ``names_only`` its sub-behaviors must be library behaviors named, never paths."""
     interface = env.unwrapped
     if not isinstance(interface, PrimitiveEnv):
-        raise TypeError(f"behaviors run on PrimitiveEnv environments, not {type(interface).__name__}")
+        raise TypeError(f"behaviors run on PrimitiveEnv environments, not "
+                        f"{type(interface).__name__}")
     if spec.env is not None and spec.env != interface.env_id:
         raise BehaviorSpecError(f"{source}: env: behavior is written for {spec.env!r}, "
                                 f"not {interface.env_id!r}")

@@ -19,6 +19,7 @@ import gymnasium as gym
 import numpy as np
 
 from vlb_gym.core.library import load_behavior
+from vlb_gym.envs.modules import import_env_module
 from vlb_gym.wrappers import RobustnessWrapper
 
 from . import bounds
@@ -38,6 +39,7 @@ class CampaignConfig:
     env_kwargs: dict[str, Any] = field(default_factory=dict)
     stop_on_failure: bool = True
     policy: bool = False  # ``behavior`` is the path of a trained agent (extra ``rl``)
+    env_modules: tuple[str, ...] = ()  # modules that register the env (imported in workers too)
 
     def __post_init__(self) -> None:
         if not isinstance(self.episodes, int) or self.episodes < 1:
@@ -58,6 +60,8 @@ def episode_seed(campaign_seed: int, index: int) -> int:
 
 def build(config: CampaignConfig) -> tuple[RobustnessWrapper, Policy]:
     """The wrapped environment and the policy (compiled behavior or trained agent)."""
+    for module in config.env_modules:
+        import_env_module(module)
     env = RobustnessWrapper(gym.make(config.env_id, **config.env_kwargs))
     if config.policy:
         from vlb_gym.baselines.train import SB3Policy
@@ -65,17 +69,22 @@ def build(config: CampaignConfig) -> tuple[RobustnessWrapper, Policy]:
     return env, load_behavior(config.behavior, env)
 
 
-_WORKER: tuple[CampaignConfig, RobustnessWrapper, Policy] | None = None
+_WORKER: tuple[CampaignConfig, RobustnessWrapper, Policy] | Exception | None = None
 
 
 def _init_worker(config: CampaignConfig) -> None:
     global _WORKER
     # Ctrl-C reaches the whole process group: the parent handles it and terminates the pool
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _WORKER = (config, *build(config))
+    try:
+        _WORKER = (config, *build(config))
+    except Exception as exc:  # raised from the first task: a Pool restarts failing initializers
+        _WORKER = exc
 
 
 def _run_index(index: int) -> EpisodeResult:
+    if isinstance(_WORKER, Exception):
+        raise _WORKER
     config, env, policy = _WORKER
     return run_episode(env, policy, episode_seed(config.seed, index), index,
                        config.stop_on_failure)
@@ -144,6 +153,7 @@ def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: 
                       "(one-sided Clopper-Pearson)"),
         "sampling_distribution": distribution,
         "env_kwargs": config.env_kwargs,
+        "env_modules": list(config.env_modules),
         "failed_episodes": [{"index": r.index, "seed": r.seed, "reason": r.reason}
                             for r in results if not r.success],
         "mean_primitives": float(np.mean([r.primitives for r in results])),

@@ -155,8 +155,8 @@ class BehaviorAgent:
     batched alike. ``episode_start[i]`` True resets copy ``i`` before it acts: it must be True
     exactly where ``observation[i]`` is the first of an episode: SB3's ``episode_starts`` (its
     VecEnvs reset within the ending step); with Gymnasium's default next-step autoreset, one step
-    later than ``terminated | truncated`` (the next step returns the reset observation). Once a copy's behavior
-    has finished or failed it never raises: it returns zeros of the action space's shape and
+    later than ``terminated | truncated`` (the next step returns the reset observation). Once a
+    copy's behavior has finished or failed it never raises: it returns zeros of the action space's shape and
     dtype, which a :class:`BehaviorFinished` env never applies (its episode ends first) and a
     next-step autoreset ignores.
     """

@@ -80,9 +80,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
     ``gym.make("VLB-GridExplore-v0", render_mode=None, size=10, n_obstacles=30, n_goals=3,
     action_noise=0.0, task=None)``: ``size`` an integer from 2 to 64, the counts integers that
     leave a free start cell, ``action_noise`` a number from 0 to 100; otherwise ``TypeError`` or
-    ``ValueError``. ``task`` (``gym.make`` only) applies the RL task wrapper. ``action_noise`` (cells/s) is the standard
-    deviation of a Gaussian velocity disturbance on the integrator: the paper's non-deterministic
-    case (Corollary 1).
+    ``ValueError``. ``task`` (``gym.make`` only) applies the RL task wrapper. ``action_noise``
+    (cells/s) is the standard deviation of a Gaussian velocity disturbance on the integrator: the
+    paper's non-deterministic case (Corollary 1).
     ``render_mode="rgb_array"`` renders a top-down picture (see :mod:`.viewer`).
     """
 
