@@ -185,3 +185,38 @@ def guarantee(epsilon: float, delta: float) -> str:
             f"the claim is certified when L_n >= {bounds.one_minus_str(epsilon)} and refuted when "
             f"U_n <= {bounds.one_minus_str(epsilon)}; either decision is wrong with probability "
             f"<= {delta:g}")
+
+
+def simulate(p: float, epsilon: float, delta: float, runs: int, max_episodes: int,
+             rng) -> tuple[object, object]:
+    """Run the test on ``runs`` i.i.d. Bernoulli(``p``) streams at once (numpy, vectorised).
+
+    Returns ``(decisions, stops)``: arrays with +1 (certified), -1 (refuted) or 0 (undecided),
+    and the number of episodes each run used. The same decision rule as :class:`SequentialTest`.
+    """
+    import numpy as np
+
+    a, b = prior(epsilon)
+    p0, threshold = 1.0 - epsilon, -math.log(delta)
+    decisions = np.zeros(runs, dtype=int)
+    stops = np.full(runs, max_episodes)
+    successes = np.zeros(runs, dtype=np.int64)
+    open_ = np.arange(runs)
+    block, start = 256, 0
+    while start < max_episodes and open_.size:
+        width = min(block, max_episodes - start)
+        draws = rng.random((open_.size, width)) < p
+        s = successes[open_, None] + np.cumsum(draws, axis=1)
+        n = start + 1 + np.arange(width)
+        f = n - s
+        log_m = (betaln(a + s, b + f) - betaln(a, b) - s * math.log(p0) - f * math.log1p(-p0))
+        hit = (log_m >= threshold) & (s != p0 * n)
+        done = hit.any(axis=1)
+        first = hit.argmax(axis=1)
+        rows = open_[done]
+        stops[rows] = n[first[done]]
+        decisions[rows] = np.where(s[done, first[done]] > p0 * n[first[done]], 1, -1)
+        successes[open_] = s[:, -1]
+        open_ = open_[~done]
+        start += width
+    return decisions, stops
