@@ -174,8 +174,8 @@ def _failures(report: dict[str, Any], report_path: str | None) -> list[str]:
         kwargs = "".join(f" --env-kwarg {k}={json.dumps(v)}"
                          for k, v in report["env_kwargs"].items())
         kwargs += "".join(f" --env-module {m}" for m in report["env_modules"])
-        lines.append(f"  replay one: vlb replay {report['env_id']} --behavior {report['behavior']} "
-                     f"--seed {failed[0]['seed']}{kwargs}")
+        lines.append(f"  replay one: vlb replay {report['env_id']} "
+                     f"--behavior {report['behavior']} --seed {failed[0]['seed']}{kwargs}")
     if report_path:
         lines.append(f"  report: {report_path}")
     return lines
