@@ -19,8 +19,18 @@ from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
-    from vlb_gym.verify.campaign import CampaignConfig, build, run_campaign
+    from vlb_gym.verify.campaign import CampaignConfig, build, run_campaign, run_sequential
 
+    if args.sequential and args.episodes is not None:
+        raise UsageError("--episodes and --sequential exclude each other: a sequential campaign "
+                         "stops by itself (cap it with --max-episodes)")
+    if not args.sequential and args.episodes is None:
+        raise UsageError("the following arguments are required: --episodes (or --sequential)")
+    if args.max_episodes is not None and not args.sequential:
+        raise UsageError("--max-episodes needs --sequential (a fixed-N campaign runs --episodes)")
+    if args.sequential:
+        from vlb_gym.verify.sequential import default_max_episodes
+        max_episodes = args.max_episodes or default_max_episodes(args.epsilon, args.delta)
     kwargs = env_kwargs(args.env_kwarg)
     if args.policy:
         from vlb_gym.baselines.train import agent_files, policy_env_kwargs
@@ -33,7 +43,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
         kwargs = {**trained, **kwargs}
     modules = env_modules(args.env_module)
     check_env(args.env_id, kwargs, modules)
-    config = CampaignConfig(args.env_id, args.policy or args.behavior, args.episodes,
+    episodes = max_episodes if args.sequential else args.episodes
+    config = CampaignConfig(args.env_id, args.policy or args.behavior, episodes,
                             args.epsilon, args.delta, args.seed, kwargs,
                             stop_on_failure=not args.keep_going, policy=bool(args.policy),
                             env_modules=modules)
@@ -46,7 +57,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     report_out = (check_output(args.report, inputs, True, "--report") if args.report else None)
     if report_out and episodes_out and report_out.resolve() == episodes_out.resolve():
         raise UsageError("--report and --episodes-out name the same file")
-    workers = clamp_workers(args.workers, args.episodes, "verify")
+    workers = clamp_workers(args.workers, episodes, "verify")
     stream = None
     if episodes_out:
         episodes_out.parent.mkdir(parents=True, exist_ok=True)
@@ -65,7 +76,10 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
     report = None
     try:
-        report = run_campaign(config, workers, on_episode)
+        if args.sequential:
+            report = run_sequential(config, max_episodes, workers, on_episode)
+        else:
+            report = run_campaign(config, workers, on_episode)
     except KeyboardInterrupt:  # the pool's workers ignore Ctrl-C; leaving run_campaign ends them
         pass
     finally:
@@ -93,6 +107,8 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
     """The human-readable outcome of a campaign."""
     from vlb_gym.verify import bounds
 
+    if report.get("mode") == "sequential":
+        return _sequential_summary(report, report_path)
     lines = [
         f"{report['env_id']} / {report['behavior']}: {report['episodes']} episodes "
         f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
@@ -104,6 +120,51 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
         f"{bounds.one_minus_str(report['delta'])} (one-sided Clopper-Pearson)",
         f"  holds for: {report['sampling_distribution']}",
     ]
+    lines += _failures(report, report_path)
+    return "\n".join(lines)
+
+
+def _sequential_summary(report: dict[str, Any], report_path: str | None) -> str:
+    from vlb_gym.verify import bounds
+    from vlb_gym.verify.campaign import _ceil_str
+
+    eps = bounds.one_minus_str(report["epsilon"])
+    level = bounds.one_minus_str(report["delta"])
+    a, b = report["prior"]
+    decision = report["decision"]
+    lines = [
+        f"{report['env_id']} / {report['behavior']}: sequential, {report['episodes']} episodes "
+        f"(at most {report['max_episodes']}; seed {report['seed']}, {report['workers']} "
+        f"worker(s), {report['wall_seconds']:.1f} s, {_rate(report['episodes_per_second'])} "
+        "episodes/s)",
+        f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
+    ]
+    if decision == "certified":
+        lines.append(f"  CERTIFIED after {report['stopped_at']} episodes: P[success] >= {eps} at "
+                     f"confidence level {level}, valid however often the test looked")
+    elif decision == "refuted":
+        lines.append(f"  REFUTED after {report['stopped_at']} episodes: P[success] < {eps} at "
+                     f"confidence level {level}, valid however often the test looked")
+    else:
+        lines.append(f"  UNDECIDED after {report['episodes']} episodes (the cap, --max-episodes): "
+                     f"neither P[success] >= {eps} nor its negation is established; nothing is "
+                     "certified")
+    lines += [
+        f"  anytime-valid: P[success] in [{bounds.floor_str(report['lower_bound'])}, "
+        f"{_ceil_str(report['upper_bound'])}] at confidence level {level}, simultaneously for "
+        "every number of episodes",
+        f"  test: {report['test']}, mixing prior Beta({a:g}, {b:g}); Ville's inequality: the "
+        f"true P[success] leaves the interval at some n with probability <= {report['delta']:g}",
+        f"  fixed-N plan for comparison: {report['fixed_n_plan']} episodes with no failure "
+        "('vlb plan')",
+        f"  holds for: {report['sampling_distribution']}",
+    ]
+    lines += _failures(report, report_path)
+    return "\n".join(lines)
+
+
+def _failures(report: dict[str, Any], report_path: str | None) -> list[str]:
+    lines = []
     failed = report["failed_episodes"]
     for item in failed[:5]:
         lines.append(f"  failed episode {item['index']} (seed {item['seed']}): {item['reason']}")
@@ -113,11 +174,11 @@ def summary(report: dict[str, Any], report_path: str | None = None) -> str:
         kwargs = "".join(f" --env-kwarg {k}={json.dumps(v)}"
                          for k, v in report["env_kwargs"].items())
         kwargs += "".join(f" --env-module {m}" for m in report["env_modules"])
-        lines.append(f"  replay one: vlb replay {report['env_id']} --behavior {report['behavior']} "
-                     f"--seed {failed[0]['seed']}{kwargs}")
+        lines.append(f"  replay one: vlb replay {report['env_id']} "
+                     f"--behavior {report['behavior']} --seed {failed[0]['seed']}{kwargs}")
     if report_path:
         lines.append(f"  report: {report_path}")
-    return "\n".join(lines)
+    return lines
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -194,7 +255,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                        description="Run N i.i.d. episodes of a behavior (N fixed in advance) and "
                        "report the confidence that P[success] >= 1 - epsilon and a one-sided "
                        "Clopper-Pearson lower bound on P[success]. Exit code 0 whenever the "
-                       "campaign finished, whatever its outcome.")
+                       "campaign finished, whatever its outcome. With --sequential, episodes run "
+                       "until an anytime-valid test certifies or refutes the claim (or "
+                       "--max-episodes ran).")
     v.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-GridExplore-v0")
     chosen = v.add_mutually_exclusive_group(required=True)
     chosen.add_argument("--behavior", metavar="NAME_OR_FILE",
@@ -204,8 +267,17 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                         "with AGENT.json beside it); its training env kwargs apply, --env-kwarg "
                         "may add to them. Loading it runs code from the file (pickle): load only "
                         "agents you trust")
-    v.add_argument("--episodes", required=True, type=count(1), metavar="N",
-                   help="number of episodes, fixed in advance (see 'vlb plan')")
+    v.add_argument("--episodes", type=count(1), metavar="N",
+                   help="number of episodes, fixed in advance (see 'vlb plan'); required "
+                   "unless --sequential")
+    v.add_argument("--sequential", action="store_true",
+                   help="run episodes until an anytime-valid test (Robbins' beta-binomial "
+                   "mixture confidence sequence) certifies or refutes P[success] >= 1 - EPS at "
+                   "level DELTA, valid however often it looks; no --episodes")
+    v.add_argument("--max-episodes", type=count(1), metavar="M",
+                   help="with --sequential: stop undecided after M episodes (default: 20 times "
+                   "the fixed-N plan 'vlb plan --epsilon EPS --confidence 1-DELTA', e.g. 1180 "
+                   "for EPS = DELTA = 0.05)")
     v.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
                    help="the claim is P[success] >= 1 - EPS")
     v.add_argument("--delta", type=probability, default=0.05,

@@ -175,3 +175,83 @@ def run_campaign(config: CampaignConfig, workers: int = 1,
         if on_episode is not None:
             on_episode(result)
     return build_report(config, results, time.perf_counter() - started, workers)
+
+
+def run_sequential(config: CampaignConfig, max_episodes: int | None = None, workers: int = 1,
+                   on_episode: Callable[[EpisodeResult], None] | None = None) -> dict[str, Any]:
+    """A sequential campaign (``vlb verify --sequential``): episodes 0, 1, 2, ... until the
+    anytime-valid test of :mod:`vlb_gym.verify.sequential` certifies or refutes
+    ``P[success] >= 1 - config.epsilon`` at level ``config.delta``, or ``max_episodes`` ran
+    (default :func:`~vlb_gym.verify.sequential.default_max_episodes`); ``config.episodes`` is
+    ignored. The test sees episodes in index order: with workers, results arrive unordered and
+    the test decides on the ordered prefix, so the decision, the stopping time and the episodes
+    counted are the same whatever the worker count; ``on_episode`` sees exactly those episodes,
+    in index order. Episodes that workers finished past the stopping time are discarded.
+    """
+    import dataclasses
+
+    from . import sequential
+
+    if max_episodes is None:
+        max_episodes = sequential.default_max_episodes(config.epsilon, config.delta)
+    if not isinstance(max_episodes, int) or max_episodes < 1:
+        raise ValueError(f"max_episodes must be a positive integer (got {max_episodes!r})")
+    capped = dataclasses.replace(config, episodes=max_episodes)
+    test = sequential.SequentialTest(config.epsilon, config.delta)
+    started = time.perf_counter()
+    used: list[EpisodeResult] = []
+    waiting: dict[int, EpisodeResult] = {}
+    stream = iter_episodes(capped, workers)
+    try:
+        for result in stream:
+            waiting[result.index] = result
+            while test.decision is None and len(used) in waiting:
+                ready = waiting.pop(len(used))
+                used.append(ready)
+                if on_episode is not None:
+                    on_episode(ready)
+                test.update(ready.success)
+            if test.decision is not None:
+                break
+    finally:
+        stream.close()  # terminates the pool when the test stopped early
+    seconds = time.perf_counter() - started
+    report = build_report(capped, used, seconds, workers)
+    low, high = test.bounds()
+    decision = test.decision or "undecided"
+    eps, delta = bounds.one_minus_str(config.epsilon), bounds.one_minus_str(config.delta)
+    words = {
+        "certified": f"certified: P[success] >= {eps} at level {delta}, anytime-valid "
+                     f"(stopped after {test.n} episodes)",
+        "refuted": f"refuted: P[success] < {eps} at level {delta}, anytime-valid "
+                   f"(stopped after {test.n} episodes)",
+        "undecided": f"undecided after {test.n} episodes (the cap): nothing is certified",
+    }[decision]
+    fixed = {"confidence": report["confidence"], "lower_bound": report["lower_bound"],
+             "note": "Clopper-Pearson figures of the episodes run, for description only: the "
+                     "number of episodes was not fixed in advance, so they are no guarantee"}
+    report.update({
+        "mode": "sequential",
+        "test": sequential.TEST_NAME,
+        "prior": list(sequential.prior(config.epsilon)),
+        "guarantee": sequential.guarantee(config.epsilon, config.delta),
+        "decision": decision,
+        "stopped_at": test.stopped_at,
+        "max_episodes": max_episodes,
+        "fixed_n_plan": bounds.min_episodes(config.epsilon, 1.0 - config.delta, 0),
+        # the fixed-N keys, with their anytime-valid meaning in this mode
+        "confidence": test.confidence(),
+        "lower_bound": low,
+        "upper_bound": high,
+        "statement": (f"{words}; P[success] in [{bounds.floor_str(low)}, "
+                      f"{_ceil_str(high)}] at confidence level {delta}, simultaneously for all "
+                      f"n ({sequential.TEST_NAME})"),
+        "fixed_n_description": fixed,
+    })
+    return report
+
+
+def _ceil_str(x: float, digits: int = 5) -> str:
+    """An upper bound in words, rounded up (never below the number)."""
+    from decimal import ROUND_CEILING, Decimal
+    return str(Decimal(repr(x)).quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING))
