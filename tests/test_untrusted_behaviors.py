@@ -246,3 +246,93 @@ def test_a_failed_atomic_write_leaves_the_old_file_and_nothing_else(tmp_path):
     write_atomic(tmp_path / "report.json", "old")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["report.json", "taken"]
     assert (tmp_path / "report.json").read_text() == "old"
+
+
+def test_a_compiled_sub_behavior_met_deeper_still_counts_its_depth(grid_env, tmp_path):
+    """c0 -> ... -> c14 (15 levels) is compiled once, via a shallow reference; met again under a
+    10-deep chain it would nest 25 deep: refused, though it comes from the compile cache."""
+    def write(name, children):
+        nodes = [{"id": f"n{k}", "behavior": child} for k, child in enumerate(children)]
+        edges = [{"from": f"n{k}", "to": f"n{k + 1}"} for k in range(len(children) - 1)]
+        (tmp_path / f"{name}.json").write_text(json.dumps(
+            {"name": name, "nodes": nodes, "edges": edges, "start": {"node": "n0"},
+             "terminals": [f"n{len(children) - 1}"]}))
+
+    (tmp_path / "c14.json").write_text(json.dumps(chain_doc("c14", None)))
+    for k in range(13, -1, -1):
+        write(f"c{k}", [f"c{k + 1}.json"])
+    for k in range(9, -1, -1):
+        write(f"d{k}", [f"d{k + 1}.json" if k < 9 else "c0.json"])
+    write("top", ["c0.json", "d0.json"])
+    assert compile_for(str(tmp_path / "c0.json"), grid_env).depth == 15
+    with pytest.raises(BehaviorSpecError, match=f"nested more than {MAX_BEHAVIOR_DEPTH} deep"):
+        compile_for(str(tmp_path / "top.json"), grid_env)
+
+
+def test_hostile_helper_arguments_are_refused_without_hashing_or_printing_them(grid_env):
+    """A tuple nested 40 deep whose halves are shared hashes for hours, and a huge list prints
+    for ever: grid helpers check types first and print arguments briefly."""
+    helpers = grid_env.unwrapped.make_helpers()
+    obs, _ = grid_env.reset(seed=0)
+    helpers.bind(obs)
+    nested = (0, 0)
+    for _ in range(40):
+        nested = (nested, nested)
+    huge = [["a" * 10_000] * 10_000] * 10_000
+    for bad in (nested, huge, (nested, 1), (True, 1)):
+        with pytest.raises(ValueError, match="label"):
+            timed(lambda: helpers.label(bad))
+    assert helpers.label((0, 0)) in ("unexplored", "empty", "obstacle", "goal")
+
+
+def test_hostile_values_in_error_messages_are_printed_briefly(grid_env, write_behavior):
+    doc = explore_doc()
+    doc["start"]["param"] = "[['a' * 10000] * 10000] * 10000"
+    started = time.perf_counter()
+    result = run_episode(grid_env, load_behavior(str(write_behavior(doc)), grid_env), seed=0)
+    assert time.perf_counter() - started < QUICK
+    assert result.rho == -1 and len(result.reason) < 500 and "parameter space" in result.reason
+
+
+def test_json_with_an_unclosed_string_of_escapes_is_refused_in_linear_time(grid_env,
+                                                                           write_behavior):
+    path = write_behavior('"' + '\\"' * 400_000)
+    with pytest.raises(BehaviorSpecError, match="invalid JSON"):
+        timed(lambda: load_behavior(str(path), grid_env))
+
+
+def test_a_number_of_5000_digits_is_a_json_error_naming_the_file(grid_env, write_behavior):
+    path = write_behavior('{"name": ' + "1" * 5000 + "}")
+    with pytest.raises(BehaviorSpecError, match="behavior.json: Exceeds the limit") as info:
+        load_behavior(str(path), grid_env)
+    assert info.value.layer == "json"
+
+
+def test_scoop_offset_refuses_what_is_not_a_pose():
+    from vlb_gym.envs.scoop.helpers import ScoopHelpers
+
+    with pytest.raises(ValueError, match="not a number"):
+        timed(lambda: ScoopHelpers().offset(([0] * 10_000, 0, 0, 0, 0, 0), 1, 0, 0))
+
+
+@pytest.mark.parametrize("param", [{1: 2, 3: 4}, [True, 1], (1.0, 2), "12", (1, 2, 3), (-1, 0)])
+def test_encode_and_decode_refuse_what_is_not_a_cell(grid_env, param):
+    env = grid_env.unwrapped
+    with pytest.raises(ValueError, match="not in its parameter space"):
+        env.encode_action("navigate", param)
+    with pytest.raises(ValueError, match="not in the action space"):
+        env.decode_action([1, *param] if isinstance(param, (list, tuple)) else param)
+
+
+def test_box_actions_are_checked_as_given_not_after_rounding():
+    import gymnasium as gym
+    import numpy as np
+
+    env = gym.make("VLB-Scoop-v0").unwrapped
+    high = np.array([1.00000001, 0, 1.2, 3.14, 0, 0])  # x above 1.0 by less than float32 sees
+    with pytest.raises(ValueError, match="not in the action space"):
+        env.decode_action(high)
+    with pytest.raises(ValueError, match="not in its parameter space"):
+        env.encode_action("scoop", [True] * 6)
+    assert env.decode_action(np.array([0.5, 0, 0.5, 3.1, 0, 0]))[1][0] == 0.5
+    env.close()

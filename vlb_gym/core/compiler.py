@@ -11,6 +11,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import networkx as nx
@@ -61,6 +62,11 @@ class CompiledBehavior:
     functions: tuple[tuple[str, Expression], ...]
     graph: nx.MultiDiGraph = field(repr=False)
 
+    @cached_property
+    def depth(self) -> int:
+        """Levels of behaviors: 1 without sub-behaviors, else 1 + the deepest sub-behavior's."""
+        return 1 + max((n.child.depth for n in self.nodes.values() if n.child), default=0)
+
     def primitives_used(self) -> set[str]:
         """Names of all primitives this behavior and its sub-behaviors may run."""
         used = set()
@@ -103,13 +109,16 @@ def _check_references(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
             if child_source in chain:
                 raise fail(f"nodes[{i}].behavior",
                            "sub-behavior cycle: " + " -> ".join((*chain, child_source)))
+            too_deep = fail(f"nodes[{i}].behavior",
+                            f"sub-behaviors nested more than {MAX_BEHAVIOR_DEPTH} deep")
             if len(chain) >= MAX_BEHAVIOR_DEPTH:
-                raise fail(f"nodes[{i}].behavior", f"sub-behaviors nested more than "
-                                                   f"{MAX_BEHAVIOR_DEPTH} deep")
+                raise too_deep
             child = compiled.get(child_source)
             if child is None:
                 child = compile_behavior(child_spec, interface, child_source, resolve, child_dir,
                                          _chain=chain, _compiled=compiled)
+            if len(chain) + child.depth > MAX_BEHAVIOR_DEPTH:  # a compiled one, met deeper here
+                raise too_deep
         nodes[node.id] = _Node(node.id, node.primitive, child)
 
     def check_target(node_id: str, param: str | None, place: str, node_field: str) -> None:

@@ -23,7 +23,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from .helpers import Helpers
+from .helpers import Helpers, brief
 from .primitive import MotionPrimitive, Outcome, execute
 
 State = TypeVar("State")
@@ -120,14 +120,9 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
                 return np.array([index, *values], dtype=self.action_space.dtype)
             value = None if values is None else np.array(values, dtype=space.dtype)
         else:
-            try:
-                value = np.asarray(param, dtype=space.dtype)
-            except (TypeError, ValueError, OverflowError):
-                value = None
-            if value is not None and (value.shape != space.shape or not space.contains(value)):
-                value = None
+            value = _box_value(param, space)
         if value is None:
-            raise ValueError(f"{primitive} parameter {param!r} is not in its parameter space "
+            raise ValueError(f"{primitive} parameter {brief(param)} is not in its parameter space "
                              f"{space}")
         if len(self.primitive_order) == 1:
             return value
@@ -137,17 +132,17 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         """The primitive and parameter an action names; ``ValueError`` outside the action
         space. Parameters are plain tuples of Python numbers."""
         space = self.action_space
-        array = np.asarray(action)
-        if isinstance(space, spaces.MultiDiscrete):
-            values = (array.tolist() if array.shape == space.shape and array.dtype.kind in "iu"
-                      and _within(array.tolist(), self._action_nvec) else None)
+        if not isinstance(space, spaces.MultiDiscrete):
+            given = _box_value(action, space)
+            values = None if given is None else np.asarray(action, np.float64).ravel().tolist()
+        elif isinstance(action, np.ndarray):  # the fast path: actions are arrays
+            values = action.tolist() if action.shape == space.shape and action.dtype.kind in "iu" \
+                and _within(action.tolist(), self._action_nvec) else None
         else:
-            values = (array.ravel().tolist() if array.shape == space.shape
-                      and array.dtype.kind in "fiu" and space.contains(array.astype(space.dtype))
-                      else None)
+            values = _discrete(action, self._action_nvec)
         if values is None:
-            raise ValueError(f"action {action!r} is not in the action space {space}: expected "
-                             f"{self._layout()}")
+            raise ValueError(f"action {brief(action)} is not in the action space {space}: "
+                             f"expected {self._layout()}")
         if len(self.primitive_order) == 1:
             cast = float if isinstance(space, spaces.Box) else int
             return self.primitive_order[0], tuple(cast(v) for v in values)
@@ -212,13 +207,30 @@ def _within(values: list[int], nvec: tuple[int, ...]) -> bool:
     return True
 
 
-def _discrete(param: Any, nvec: tuple[int, ...]) -> list[int] | None:
-    """``param`` as a list if it is a flat sequence of integers (not bools) with
-    ``0 <= param[k] < nvec[k]``, else None (plain Python: this runs on every decision)."""
-    try:
-        values = list(param)
-    except TypeError:
+def _box_value(param: Any, space: gym.Space) -> np.ndarray | None:
+    """``param`` as an array of ``space``'s dtype if it is a real array (not bools) of the
+    space's shape whose values, as given, lie in its bounds; else None."""
+    if not isinstance(param, (tuple, list, np.ndarray)):
         return None
+    try:
+        given = np.asarray(param)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    if given.shape != space.shape or given.dtype.kind not in "fiu":
+        return None
+    given = given.astype(np.float64)
+    if not (np.all(np.isfinite(given)) and np.all(given >= space.low)
+            and np.all(given <= space.high)):
+        return None
+    return given.astype(space.dtype)
+
+
+def _discrete(param: Any, nvec: tuple[int, ...]) -> list[int] | None:
+    """``param`` as a list if it is a flat list, tuple or array of integers (not bools) with
+    ``0 <= param[k] < nvec[k]``, else None (plain Python: this runs on every decision)."""
+    if not isinstance(param, (tuple, list, np.ndarray)) or len(param) != len(nvec):
+        return None
+    values = list(param)
     for value in values:
         if type(value) is not int and not isinstance(value, np.integer):
             return None

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import json
 import os
-import re
 import stat
 import tempfile
 from pathlib import Path
@@ -21,8 +20,6 @@ from typing import Any
 MAX_FILE_BYTES = 1_000_000
 MAX_JSON_DEPTH = 64
 
-_STRING = re.compile(rb'"(?:[^"\\]|\\.)*"', re.DOTALL)
-_BRACKET = re.compile(rb"[\[\]{}]")
 
 
 class InputFileError(ValueError):
@@ -53,25 +50,37 @@ def read_limited(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES,
     return data
 
 
-def json_depth(text: str | bytes) -> int:
-    """The deepest nesting of arrays and objects in a JSON text (strings ignored)."""
-    data = text.encode() if isinstance(text, str) else text
-    depth = deepest = 0
-    for match in _BRACKET.finditer(_STRING.sub(b'""', data)):
-        depth += 1 if match.group() in (b"[", b"{") else -1
-        deepest = max(deepest, depth)
-    return deepest
+def _deeper_than(data: Any, limit: int) -> bool:
+    """Whether decoded JSON nests arrays and objects more than ``limit`` deep (iterative)."""
+    stack = [(data, 1)]
+    while stack:
+        value, depth = stack.pop()
+        children = value.values() if isinstance(value, dict) else value
+        if isinstance(value, (dict, list)):
+            if depth > limit:
+                return True
+            stack.extend((child, depth + 1) for child in children)
+    return False
 
 
 def load_json(text: str | bytes, source: str, max_depth: int = MAX_JSON_DEPTH) -> Any:
-    """Decode JSON whose nesting is at most ``max_depth``; errors name ``source`` and the place.
+    """Decode JSON whose nesting is at most ``max_depth``, in time linear in its length.
 
     Raises :class:`json.JSONDecodeError` for malformed text (so callers can report line and
-    column) and :class:`InputFileError` for a document nested too deeply.
+    column) and :class:`InputFileError` for a document nested too deeply or holding a number
+    Python refuses to convert (over 4300 digits).
     """
-    if json_depth(text) > max_depth:
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError:
+        raise
+    except RecursionError:  # the decoder's own recursion limit, far past max_depth
+        raise InputFileError(f"{source}: JSON nested deeper than {max_depth} levels") from None
+    except ValueError as exc:
+        raise InputFileError(f"{source}: {exc}") from None
+    if _deeper_than(data, max_depth):
         raise InputFileError(f"{source}: JSON nested deeper than {max_depth} levels")
-    return json.loads(text)
+    return data
 
 
 def write_atomic(path: str | os.PathLike[str], content: str | bytes) -> None:

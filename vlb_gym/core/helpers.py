@@ -10,10 +10,21 @@ from __future__ import annotations
 
 import abc
 import inspect
+import reprlib
 from collections.abc import Callable
 from typing import Any
 
 _MARK = "__vlb_helper__"
+_BRIEF = reprlib.Repr()
+_BRIEF.maxlevel, _BRIEF.maxtuple, _BRIEF.maxlist = 3, 8, 8
+_BRIEF.maxstring, _BRIEF.maxother, _BRIEF.maxlong = 60, 60, 40
+
+
+def brief(value: Any, limit: int = 120) -> str:
+    """A short repr of an untrusted value, for error messages: at most ``limit`` characters, in
+    bounded work however large or deeply shared ``value`` is."""
+    text = _BRIEF.repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def helper(fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -35,9 +46,11 @@ class Helpers(abc.ABC):
     """Base class: a named set of decision functions over one observation.
 
     Helpers run inside a behavior's evaluation budget (:mod:`vlb_gym.core.expressions`), so each
-    must cost at most about the size of the observation and reject malformed arguments cheaply,
-    without iterating them. A helper that returns a list says so in its return annotation
-    (``-> list[...]``): the budget then charges each call the list's length.
+    must cost at most about the size of the observation and reject malformed arguments cheaply:
+    check types before using a value (an argument may be a huge list, or a tuple nested 40 deep
+    that shares its halves, whose hash or repr never ends), never iterate, hash or print it
+    whole (:func:`brief` prints it in bounded time). A helper that returns a list says so in its
+    return annotation (``-> list[...]``): the budget then charges each call the list's length.
     """
 
     @abc.abstractmethod

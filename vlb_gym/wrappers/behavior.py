@@ -156,9 +156,9 @@ class BehaviorAgent:
     exactly where ``observation[i]`` is the first of an episode: SB3's ``episode_starts`` (its
     VecEnvs reset within the ending step); with Gymnasium's default next-step autoreset, one step
     later than ``terminated | truncated`` (the next step returns the reset observation). Once a
-    copy's behavior has finished or failed it never raises: it returns zeros of the action space's shape and
-    dtype, which a :class:`BehaviorFinished` env never applies (its episode ends first) and a
-    next-step autoreset ignores.
+    copy's behavior has finished or failed it never raises: it returns zeros of the action
+    space's shape and dtype, which a :class:`BehaviorFinished` env never applies (its episode
+    ends first) and a next-step autoreset ignores.
     """
 
     def __init__(self, behavior: str | CompiledBehavior, env: gym.Env):

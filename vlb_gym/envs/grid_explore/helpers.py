@@ -8,12 +8,18 @@ from __future__ import annotations
 
 from typing import Any
 
-from vlb_gym.core.helpers import Helpers, helper
+import numpy as np
+
+from vlb_gym.core.helpers import Helpers, brief, helper
 
 from .planner import _neighbours
 from .types import GOAL, LABEL_NAMES, UNEXPLORED, cell_of
 
 Cell = tuple[int, int]
+
+
+def _integer(value: Any) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
 
 
 class GridHelpers(Helpers):
@@ -27,7 +33,6 @@ class GridHelpers(Helpers):
     def __init__(self, size: int):
         self.size = size
         self._cells = [divmod(k, size) for k in range(size * size)]
-        self._flat = {cell: k for k, cell in enumerate(self._cells)}
         self._adjacent = [[self._cells[m] for m in ms] for ms in _neighbours(size)]
         self._labels: list[int] = []
         self._here: Cell = (0, 0)
@@ -37,17 +42,17 @@ class GridHelpers(Helpers):
         self._here = cell_of(observation["position"], self.size)
 
     def _index(self, cell: Any, fn: str) -> int:
-        if type(cell) is tuple:  # fast path: a well-formed cell tuple
-            k = self._flat.get(cell)
-            if k is not None:
-                return k
-        try:
+        """The flat index of ``cell``; types are checked before anything else (never hashed)."""
+        if type(cell) is tuple and len(cell) == 2:
             i, j = cell
-        except (TypeError, ValueError):
-            raise ValueError(f"{fn}(): {cell!r} is not a cell (i, j)") from None
-        if not (isinstance(i, int) and isinstance(j, int) and 0 <= i < self.size
-                and 0 <= j < self.size):
-            raise ValueError(f"{fn}(): {cell!r} is not a cell of the {self.size}x{self.size} grid")
+            if type(i) is int and type(j) is int and 0 <= i < self.size and 0 <= j < self.size:
+                return i * self.size + j
+        if not (isinstance(cell, (tuple, list)) and len(cell) == 2):
+            raise ValueError(f"{fn}(): {brief(cell)} is not a cell (i, j)")
+        i, j = cell
+        if not (_integer(i) and _integer(j) and 0 <= i < self.size and 0 <= j < self.size):
+            raise ValueError(f"{fn}(): {brief(cell)} is not a cell of the {self.size}x{self.size} "
+                             "grid")
         return i * self.size + j
 
     @helper
@@ -81,5 +86,4 @@ class GridHelpers(Helpers):
     @helper
     def label(self, cell: Cell) -> str:
         """The agent's label of ``cell``: 'empty', 'obstacle', 'unexplored' or 'goal'."""
-        k = self._flat.get(cell) if type(cell) is tuple else None  # inlined fast path (hot)
-        return LABEL_NAMES[self._labels[self._index(cell, "label") if k is None else k]]
+        return LABEL_NAMES[self._labels[self._index(cell, "label")]]

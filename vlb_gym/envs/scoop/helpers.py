@@ -4,9 +4,18 @@ from __future__ import annotations
 
 from typing import Any
 
-from vlb_gym.core.helpers import Helpers, helper
+import numpy as np
+
+from vlb_gym.core.helpers import Helpers, brief, helper
 
 Pose = tuple[float, float, float, float, float, float]
+
+
+def _number(fn: str, value: Any) -> float:
+    """``value`` as a float if it is a real number (checked before anything else)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{fn}(): {brief(value)} is not a number")
+    return float(value)
 
 
 class ScoopHelpers(Helpers):
@@ -30,5 +39,8 @@ class ScoopHelpers(Helpers):
     @helper
     def offset(self, pose: Pose, dx: float, dy: float, dz: float) -> Pose:
         """``pose`` moved by (dx, dy, dz) metres in the base frame, orientation unchanged."""
-        x, y, z, roll, pitch, yaw = pose
+        if not (isinstance(pose, (tuple, list)) and len(pose) == 6):
+            raise ValueError(f"offset(): {brief(pose)} is not a pose (x, y, z, roll, pitch, yaw)")
+        values = [_number("offset", v) for v in (*pose, dx, dy, dz)]
+        x, y, z, roll, pitch, yaw, dx, dy, dz = values
         return (x + dx, y + dy, z + dz, roll, pitch, yaw)
