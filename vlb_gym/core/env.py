@@ -230,7 +230,7 @@ def _discrete(param: Any, nvec: tuple[int, ...]) -> list[int] | None:
     ``0 <= param[k] < nvec[k]``, else None (plain Python: this runs on every decision)."""
     if not isinstance(param, (tuple, list, np.ndarray)) or len(param) != len(nvec):
         return None
-    values = list(param)
+    values = param if type(param) is list else list(param)
     for value in values:
         if type(value) is not int and not isinstance(value, np.integer):
             return None
