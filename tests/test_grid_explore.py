@@ -185,3 +185,16 @@ def test_render_shows_the_world():
     assert frame.shape == (320, 320, 3)
     dark = (frame.reshape(-1, 3) == (20, 20, 20)).all(axis=1).sum()
     assert dark > 30 * (32 - 1) ** 2 * 0.9  # 30 obstacle squares
+
+
+def test_goal_found_in_info_equals_the_labels():
+    env = gym.make("VLB-GridExplore-v0", n_goals=6)
+    for seed in range(5):
+        env.reset(seed=seed)
+        env.action_space.seed(seed)
+        for _ in range(40):
+            state = env.unwrapped.state
+            action = np.array([0, *state.cell]) if env.action_space.sample()[0] == 0 else \
+                env.action_space.sample()
+            info = env.step(action)[4]
+            assert info["goal_found"] == bool((env.unwrapped.state.labels == 3).any())

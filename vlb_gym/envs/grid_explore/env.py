@@ -15,7 +15,7 @@ from vlb_gym.envs import arguments
 from .generator import check_fits, sample_state
 from .helpers import GridHelpers
 from .primitives import Navigate, Sense
-from .types import GOAL, GridState, Label
+from .types import GridState, Label
 from .viewer import render_rgb
 
 MAX_SIZE = 64  # bounds memory and planning time: size**2 cells, labels and actions
@@ -122,7 +122,7 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
 
     def step_info(self, outcome: Outcome) -> dict[str, Any]:
         state = self.state
-        return {"cell": state.cell, "goal_found": bool(np.any(state.labels == GOAL))}
+        return {"cell": state.cell, "goal_found": state.goal_found}
 
     def render(self) -> np.ndarray | None:
         if self.render_mode is None:

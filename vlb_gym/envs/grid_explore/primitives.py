@@ -12,7 +12,7 @@ from gymnasium import spaces
 from vlb_gym.core.primitive import ControllerFailure, MotionPrimitive
 
 from . import planner
-from .types import OBSTACLE, GridState
+from .types import GOAL, OBSTACLE, GridState
 
 Cell = tuple[int, int]
 
@@ -86,7 +86,9 @@ class Sense(MotionPrimitive[GridState]):
 
     def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> dict[str, Any]:
         cells = sensed_cells(state.size, param)
-        state.labels[cells] = state.truth[cells]
+        sensed = state.truth[cells]
+        state.labels[cells] = sensed
+        state.goal_found = state.goal_found or bool((sensed == GOAL).any())
         return {}
 
 

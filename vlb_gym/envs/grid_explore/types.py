@@ -45,6 +45,7 @@ class GridState:
     component: np.ndarray  # (size, size) int32, 4-connected free components of d (0: obstacle)
     blocked: np.ndarray  # (size + 2, size + 2) bool, obstacles and a border for the grid's edge
     distances: dict[int, np.ndarray] = field(default_factory=dict)  # target -> steps-to-go
+    goal_found: bool = False  # some label is 'goal' (kept by sense, the only labeller)
     trail: list[np.ndarray] = field(default_factory=list)  # trajectories, for rendering
 
     @property
