@@ -69,7 +69,7 @@ def test_a_server_trickling_its_body_cannot_outlast_the_timeout():
             backend(server, timeout=1.0, max_retries=1).complete(MESSAGES)
         elapsed = time.monotonic() - start
     assert len(server.headers) == 2
-    assert 2 <= elapsed < 4  # two attempts of 1 s, a short backoff; generous slack
+    assert 2 <= elapsed < 7  # two attempts of 1 s and a short backoff, far below 20 s of drip
 
 
 def test_a_server_trickling_its_headers_cannot_outlast_the_timeout():
@@ -78,7 +78,7 @@ def test_a_server_trickling_its_headers_cannot_outlast_the_timeout():
         with pytest.raises(BackendError, match="timed out after 1 s"):
             backend(server, timeout=1.0, max_retries=0).complete(MESSAGES)
         elapsed = time.monotonic() - start
-    assert 1 <= elapsed < 2.5
+    assert 1 <= elapsed < 6  # one attempt of 1 s, far below 10 s of headers
 
 
 # -- size: replies are capped --------------------------------------------------------------------
@@ -156,7 +156,7 @@ def test_transient_errors_are_retried_with_growing_backoff(status, body):
         assert backend(server, max_retries=2, backoff=0.2).complete(MESSAGES) == "ok"
         elapsed = time.monotonic() - start
     assert len(server.headers) == 3
-    assert 0.6 <= elapsed < 3  # 0.2 s then 0.4 s, each plus up to a quarter of jitter
+    assert 0.6 <= elapsed < 5  # 0.2 s then 0.4 s, each plus up to a quarter of jitter
 
 
 @pytest.mark.parametrize("status, body, rejected", [
