@@ -74,14 +74,13 @@ def cmd_verify(args: argparse.Namespace) -> int:
         if bar:
             bar.update()
 
-    report = None
     try:
         if args.sequential:
             report = run_sequential(config, max_episodes, workers, on_episode)
         else:
             report = run_campaign(config, workers, on_episode)
     except KeyboardInterrupt:  # the pool's workers ignore Ctrl-C; leaving run_campaign ends them
-        pass
+        report = None
     finally:
         if bar:
             bar.close()
