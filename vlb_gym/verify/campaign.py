@@ -7,6 +7,7 @@ not depend on the number of workers or on the order in which episodes finish.
 
 from __future__ import annotations
 
+import dataclasses
 import multiprocessing as mp
 import platform
 import signal
@@ -22,7 +23,7 @@ from vlb_gym.core.library import load_behavior
 from vlb_gym.envs.modules import import_env_module
 from vlb_gym.wrappers import RobustnessWrapper
 
-from . import bounds
+from . import bounds, sequential
 from .episode import EpisodeResult, Policy, run_episode
 
 
@@ -188,10 +189,6 @@ def run_sequential(config: CampaignConfig, max_episodes: int | None = None, work
     counted are the same whatever the worker count; ``on_episode`` sees exactly those episodes,
     in index order. Episodes that workers finished past the stopping time are discarded.
     """
-    import dataclasses
-
-    from . import sequential
-
     if max_episodes is None:
         max_episodes = sequential.default_max_episodes(config.epsilon, config.delta)
     if not isinstance(max_episodes, int) or max_episodes < 1:
