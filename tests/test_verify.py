@@ -135,3 +135,42 @@ def test_campaign_config_rejects_bad_values():
         base = dict(env_id="VLB-GridExplore-v0", behavior="explore_until_goal", episodes=5)
         with pytest.raises(ValueError, match=word):
             CampaignConfig(**{**base, **kwargs})
+
+
+def _causes(report):
+    return {group["cause"]: group["count"] for group in report["failures_by_cause"]}
+
+
+def test_failures_are_grouped_by_cause_with_replayable_seeds():
+    report = run_campaign(CampaignConfig("VLB-GridExplore-v0", str(EXAMPLES / "fixed_cell.json"),
+                                         100))
+    assert _causes(report) == {"navigate: inadmissible parameter": report["failures"]}
+    failed_seeds = {item["seed"] for item in report["failed_episodes"]}
+    assert set(report["failures_by_cause"][0]["seeds"]) <= failed_seeds
+    noisy = run_campaign(CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 100,
+                                        env_kwargs={"action_noise": 1.0,
+                                                    "max_episode_steps": 25}))
+    causes = _causes(noisy)
+    assert causes["step bound"] > 0 and causes["navigate: controller failed"] > 0
+    assert sum(causes.values()) == noisy["failures"]
+    assert [g["count"] for g in noisy["failures_by_cause"]] == sorted(causes.values(),
+                                                                      reverse=True)
+
+
+@pytest.mark.parametrize("guard, cause", [
+    ("round(5, -1000000000) > 0", "evaluation budget exceeded"),
+    ("[1][5] > 0", "behavior runtime error"),
+])
+def test_behavior_failures_have_their_own_causes(guard, cause, write_behavior):
+    from .conftest import explore_doc
+
+    doc = explore_doc()
+    doc["edges"][0]["guard"] = guard
+    report = run_campaign(CampaignConfig("VLB-GridExplore-v0", str(write_behavior(doc)), 3))
+    assert _causes(report) == {cause: 3}
+
+
+def test_a_failed_part_of_the_scoop_certificate_is_named():
+    report = run_campaign(CampaignConfig("VLB-Scoop-v0", "scoop_repeatedly", 1,
+                                         env_kwargs={"delivered_threshold_g": 5000.0}))
+    assert _causes(report) == {"scoop: certificate (delivered)": 1}

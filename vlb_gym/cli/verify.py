@@ -163,7 +163,8 @@ def _sequential_summary(report: dict[str, Any], report_path: str | None) -> str:
 
 
 def _failures(report: dict[str, Any], report_path: str | None) -> list[str]:
-    lines = []
+    lines = [f"  failures by cause: {group['count']} x {group['cause']} (e.g. seed "
+             f"{group['seeds'][0]})" for group in report["failures_by_cause"]]
     failed = report["failed_episodes"]
     for item in failed[:5]:
         lines.append(f"  failed episode {item['index']} (seed {item['seed']}): {item['reason']}")

@@ -20,7 +20,7 @@ import numpy as np
 
 from .compiler import CompiledBehavior
 from .env import PrimitiveEnv
-from .expressions import Budget, Expression, guard_namespace
+from .expressions import Budget, EvaluationLimitError, Expression, guard_namespace
 
 
 class BehaviorRuntimeError(RuntimeError):
@@ -119,3 +119,13 @@ class BehaviorPolicy:
             self._stack.pop()
         self.finished = True
         return None
+
+
+def failure_cause(exc: Exception) -> str:
+    """The class of an exception that ended an episode: the evaluation budget, the behavior's
+    own logic, or an error of the environment or policy code."""
+    if isinstance(exc, EvaluationLimitError) or isinstance(exc.__cause__, EvaluationLimitError):
+        return "evaluation budget exceeded"
+    if isinstance(exc, BehaviorRuntimeError):
+        return "behavior runtime error"
+    return f"exception ({type(exc).__name__})"

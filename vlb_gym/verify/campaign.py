@@ -127,6 +127,18 @@ def sampling_distribution(config: CampaignConfig) -> str:
     return text
 
 
+def failures_by_cause(results: list[EpisodeResult], examples: int = 3) -> list[dict[str, Any]]:
+    """Failed episodes grouped by cause (which primitive's certificate or which part of it,
+    inadmissible parameters, controller failures, behavior runtime errors, the evaluation budget,
+    the step bound), most frequent first, each with a few example reset seeds for replays."""
+    groups: dict[str, list[EpisodeResult]] = {}
+    for result in sorted(results, key=lambda r: r.index):
+        if not result.success:
+            groups.setdefault(result.cause or "unknown", []).append(result)
+    return [{"cause": cause, "count": len(failed), "seeds": [r.seed for r in failed[:examples]]}
+            for cause, failed in sorted(groups.items(), key=lambda item: -len(item[1]))]
+
+
 def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: float,
                  workers: int) -> dict[str, Any]:
     """The JSON report of a finished campaign (keys per ARCHITECTURE.md, plus context)."""
@@ -155,8 +167,9 @@ def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: 
         "sampling_distribution": distribution,
         "env_kwargs": config.env_kwargs,
         "env_modules": list(config.env_modules),
-        "failed_episodes": [{"index": r.index, "seed": r.seed, "reason": r.reason}
-                            for r in results if not r.success],
+        "failed_episodes": [{"index": r.index, "seed": r.seed, "reason": r.reason,
+                             "cause": r.cause} for r in results if not r.success],
+        "failures_by_cause": failures_by_cause(results),
         "mean_primitives": float(np.mean([r.primitives for r in results])),
         "wall_seconds": seconds,
         "episodes_per_second": n / seconds if seconds > 0 else None,

@@ -10,6 +10,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from vlb_gym.core.runtime import failure_cause
 from vlb_gym.wrappers import RobustnessWrapper
 
 
@@ -37,6 +38,7 @@ class EpisodeResult:
     failed_certificates: int
     reason: str | None
     seconds: float
+    cause: str | None = None  # the failure's class, for grouping (see failure_cause)
 
     @property
     def success(self) -> bool:
@@ -75,8 +77,11 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     except Exception as exc:  # an episode's failure, never the campaign's end
         frame = traceback.extract_tb(exc.__traceback__)[-1]
         env.end(finished=False, reason=f"{type(exc).__name__}: {exc} "
-                                       f"({frame.filename.rsplit('/', 1)[-1]}:{frame.lineno})")
+                                       f"({frame.filename.rsplit('/', 1)[-1]}:{frame.lineno})",
+                cause=failure_cause(exc))
     summary = env.summary
     return EpisodeResult(index, int(seed), summary["rho_B"], summary["finished"],
                          summary["primitives"], summary["failed_certificates"],
-                         summary["failure_reason"], time.perf_counter() - started)
+                         summary["failure_reason"], time.perf_counter() - started,
+                         summary["failure_cause"])
+

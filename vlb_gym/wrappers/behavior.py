@@ -30,7 +30,7 @@ from gymnasium import spaces
 
 from vlb_gym.core.compiler import CompiledBehavior
 from vlb_gym.core.library import compile_for
-from vlb_gym.core.runtime import BehaviorPolicy, BehaviorRuntimeError
+from vlb_gym.core.runtime import BehaviorPolicy, BehaviorRuntimeError, failure_cause
 
 from .robustness import RobustnessWrapper
 
@@ -86,6 +86,7 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self._obs: Any = None
         self._action: np.ndarray | None = None  # the behavior's next action, if it is followed
         self._failure: str | None = None  # why the behavior failed, if it did
+        self._cause: str | None = None  # and the class of that failure
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[Any, dict[str, Any]]:
@@ -98,8 +99,8 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if self.robustness.summary is not None:
             raise RuntimeError("the episode has ended (rho_B is recorded); call reset()")
         if self._failure is not None:  # at the reset: the behavior has no action to apply
-            return self._obs, 0.0, False, True, {**self.robustness.end(False, self._failure),
-                                                 "on_behavior": False}
+            ended = self.robustness.end(False, self._failure, self._cause)
+            return self._obs, 0.0, False, True, {**ended, "on_behavior": False}
         on_behavior = self._action is not None and np.array_equal(action, self._action)
         obs, reward, terminated, truncated, info = self.env.step(action)
         self._action = None  # until the behavior, followed so far, gives its next one
@@ -108,16 +109,17 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
             if self._action is None:
                 finished = self._failure is None
                 terminated, truncated = finished, not finished
-                info = {**info, **self.robustness.end(finished, self._failure)}
+                info = {**info, **self.robustness.end(finished, self._failure, self._cause)}
         return obs, reward, terminated, truncated, {**info, "on_behavior": on_behavior}
 
     def _next(self, obs: Any) -> None:
         """Ask the behavior for its action on ``obs``: None when it has finished or failed."""
-        self._obs, self._failure = obs, None
+        self._obs, self._failure, self._cause = obs, None, None
         try:
             self._action, _ = self.policy.predict(obs)
         except BehaviorRuntimeError as exc:
             self._action, self._failure = None, f"BehaviorRuntimeError: {exc}"
+            self._cause = failure_cause(exc)
 
 
 def _batch_size(space: spaces.Space, observation: Any) -> int | None:

@@ -35,12 +35,14 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self.certificates: list[bool] = []
         self.history: list[dict[str, Any]] = []  # every step's info, for replays
         self.first_failure: str | None = None
+        self.first_cause: str | None = None
         self.summary: dict[str, Any] | None = None
 
     def reset(self, **kwargs: Any):
         self.certificates = []
         self.history = []
         self.first_failure = None
+        self.first_cause = None
         self.summary = None
         return self.env.reset(**kwargs)
 
@@ -54,8 +56,10 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         if not certificate and self.first_failure is None:
             self.first_failure = (f"step {len(self.certificates)}: {info['primitive']} "
                                   f"{info['param']}: {info.get('reason', 'certificate failed')}")
+            self.first_cause = certificate_cause(info)
         if terminated or truncated:
-            info = {**info, **self.end(terminated, None if terminated else "truncated: step bound")}
+            info = {**info, **self.end(terminated, None if terminated else "truncated: step bound",
+                                       None if terminated else "step bound")}
         return obs, reward, terminated, truncated, info
 
     @property
@@ -63,15 +67,34 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         """Whether some certificate has already failed (rho_B will be -1)."""
         return self.first_failure is not None
 
-    def end(self, finished: bool, reason: str | None = None) -> dict[str, Any]:
-        """End the episode; return (and keep in :attr:`summary`) rho_B and how it came about."""
+    def end(self, finished: bool, reason: str | None = None,
+            cause: str | None = None) -> dict[str, Any]:
+        """End the episode; return (and keep in :attr:`summary`) rho_B and how it came about:
+        ``failure_reason`` in words and ``failure_cause``, its class (see
+        :func:`certificate_cause`; ``cause`` names it when the episode ends for another reason,
+        e.g. ``"step bound"`` or ``"behavior runtime error"``)."""
         if self.summary is not None:
             return self.summary
         rho = behavior_robustness(finished, self.certificates)
         if rho < 0:  # the first failed certificate is the root cause when there is one
             reason = self.first_failure or reason or "behavior did not finish"
+            cause = self.first_cause or cause or "did not finish"
         self.summary = {"rho_B": rho, "finished": bool(finished),
                         "primitives": len(self.certificates),
                         "failed_certificates": self.certificates.count(False),
-                        "failure_reason": reason if rho < 0 else None}
+                        "failure_reason": reason if rho < 0 else None,
+                        "failure_cause": cause if rho < 0 else None}
         return self.summary
+
+
+def certificate_cause(info: dict[str, Any]) -> str:
+    """The class of a failed step, for grouping failures: ``"<primitive>: inadmissible
+    parameter"``, ``"<primitive>: controller failed"`` or ``"<primitive>: certificate"`` with the
+    failed parts of the terminal region in parentheses (e.g. ``"scoop: certificate (delivered)"``)."""
+    primitive = info["primitive"]
+    if not info["admissible"]:
+        return f"{primitive}: inadmissible parameter"
+    if str(info.get("reason", "")).startswith("controller failed"):
+        return f"{primitive}: controller failed"
+    parts = [part for part, held in info.get("certificates", {}).items() if not held]
+    return f"{primitive}: certificate" + (f" ({', '.join(parts)})" if parts else "")
