@@ -288,3 +288,19 @@ def test_cli_synthesize_usage_errors(capsys, tmp_path):
     err = capsys.readouterr().err
     assert "no valid behavior after 1 round" in err
     assert (tmp_path / "o.failed.transcript.json").exists() and not (tmp_path / "o.json").exists()
+
+
+def test_a_failed_rerun_names_the_real_cause_and_keeps_the_library_clean(library, capsys):
+    """Re-running the README's example: the name is taken; that is the error shown, not only
+    that the scripted replies ran out, and the failed transcript goes to failed/."""
+    args = ["synthesize", ENV, PAPER_PROMPT_1, "--scripted", str(REPLIES_1)]
+    assert main(args) == 0
+    capsys.readouterr()
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("vlb synthesize: error: reply 1: name: 'explore_for_goal' is already "
+                          "in the behavior library")
+    assert "then the language model failed" in err
+    assert sorted(p.name for p in library.directory.glob("*.json")) == [
+        "explore_for_goal.json", "explore_for_goal.transcript.json"]
+    assert len(list((library.directory / "failed").glob("*.transcript.json"))) == 1

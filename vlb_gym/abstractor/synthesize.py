@@ -70,7 +70,8 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
         except BackendError as exc:
             transcript["rounds"].append({"round": round_number, "reply": None,
                                          "error": str(exc), "layer": "backend"})
-            raise SynthesisError(f"the language model failed: {exc}", transcript) from None
+            cause = (f"{error} (the {error.layer} check); then " if error is not None else "")
+            raise SynthesisError(f"{cause}the language model failed: {exc}", transcript) from None
         record = {"round": round_number, "reply": reply, "error": None, "layer": None}
         transcript["rounds"].append(record)
         try:

@@ -72,7 +72,7 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
                             tuple(args.uses), args.name, args.max_rounds)
     except SynthesisError as exc:
         where = Path(args.out).with_suffix(".failed.transcript.json") if args.out else \
-            library.directory / f"failed-{int(time.time())}.transcript.json"
+            library.directory / "failed" / f"{time.strftime('%Y%m%d-%H%M%S')}.transcript.json"
         save_transcript(exc.transcript, where)
         print(f"vlb synthesize: error: {exc}\n  transcript: {where}", file=sys.stderr)
         return 1
