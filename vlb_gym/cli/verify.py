@@ -19,7 +19,8 @@ from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
-    from vlb_gym.verify.campaign import CampaignConfig, build, run_campaign, run_sequential
+    from vlb_gym.verify.campaign import (CampaignConfig, build, campaign_plan, run_campaign,
+                                         run_sequential)
 
     if args.sequential and args.episodes is not None:
         raise UsageError("--episodes and --sequential exclude each other: a sequential campaign "
@@ -28,6 +29,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
         raise UsageError("the following arguments are required: --episodes (or --sequential)")
     if args.max_episodes is not None and not args.sequential:
         raise UsageError("--max-episodes needs --sequential (a fixed-N campaign runs --episodes)")
+    if args.store and args.sequential:
+        raise UsageError("--store keeps fixed-N campaigns only (for now); drop --sequential")
     if args.sequential:
         from vlb_gym.verify.sequential import default_max_episodes
         max_episodes = args.max_episodes or default_max_episodes(args.epsilon, args.delta)
@@ -57,6 +60,18 @@ def cmd_verify(args: argparse.Namespace) -> int:
     report_out = (check_output(args.report, inputs, True, "--report") if args.report else None)
     if report_out and episodes_out and report_out.resolve() == episodes_out.resolve():
         raise UsageError("--report and --episodes-out name the same file")
+    store = None
+    if args.store:  # an existing store is resumed: its plan must be this command's
+        from vlb_gym.verify.store import CampaignStore, StoreError
+        path = check_output(args.store, [*inputs, report_out, episodes_out], True, "--store")
+        try:
+            store = CampaignStore(path)
+            store.start(campaign_plan(config))
+        except StoreError as exc:
+            raise UsageError(f"--store {exc}") from None
+        if store.done():
+            print(f"vlb verify: resuming {path}: {len(store.done())} of {episodes} episodes "
+                  "are stored", file=sys.stderr)
     workers = clamp_workers(args.workers, episodes, "verify")
     stream = None
     if episodes_out:
@@ -78,7 +93,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         if args.sequential:
             report = run_sequential(config, max_episodes, workers, on_episode)
         else:
-            report = run_campaign(config, workers, on_episode)
+            report = run_campaign(config, workers, on_episode, store)
     except KeyboardInterrupt:  # the pool's workers ignore Ctrl-C; leaving run_campaign ends them
         report = None
     finally:
@@ -90,8 +105,11 @@ def cmd_verify(args: argparse.Namespace) -> int:
         # counted in the file: Ctrl-C may fall between a line's write and any counter's update
         written = episodes_out.read_bytes().count(b"\n") if stream else 0
         kept = f"; {written} episode(s) written to {episodes_out}" if stream else ""
+        kept += f"; the store {store.path} keeps every finished episode" if store else ""
         print(f"vlb verify: interrupted{kept}", file=sys.stderr)
         return 130
+    if store:
+        store.close()
     if report_out:
         write_atomic(report_out, json.dumps(report, indent=2) + "\n")
     print(summary(report, args.report))
@@ -179,6 +197,27 @@ def _failures(report: dict[str, Any], report_path: str | None) -> list[str]:
     if report_path:
         lines.append(f"  report: {report_path}")
     return lines
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from vlb_gym.verify.campaign import report_from_store
+    from vlb_gym.verify.store import CampaignStore, StoreError
+
+    try:
+        store = CampaignStore(args.store, create=False)
+        report = report_from_store(store)
+    except StoreError as exc:
+        raise UsageError(str(exc)) from None
+    store.close()
+    stored, planned = report["episodes"], report["planned_episodes"]
+    if args.json:
+        print(json.dumps(report, indent=2))
+        return 0
+    if stored < planned:
+        print(f"incomplete campaign: {stored} of {planned} episodes stored (the bounds below are "
+              f"for the {stored} stored; resume with the same vlb verify command and --store)")
+    print(summary(report))
+    return 0
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -292,11 +331,21 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="stream one JSON line per episode here as episodes finish; kept if the "
                    "campaign is interrupted (Ctrl-C: exit code 130)")
     v.add_argument("--force", action="store_true", help="replace an existing --episodes-out")
+    v.add_argument("--store", metavar="PATH",
+                   help="keep every episode in this SQLite store as it finishes; an existing "
+                   "store of the same campaign is resumed (episodes stored are not run again)")
     v.add_argument("--keep-going", action="store_true",
                    help="run each episode to its end even after a certificate failed")
     v.add_argument("--quiet", action="store_true", help="no progress bar")
     add_env_kwarg(v)
     v.set_defaults(func=cmd_verify)
+
+    t = sub.add_parser("report", help="rebuild a campaign's report from its --store",
+                       description="Print the summary (or, with --json, the JSON report) of the "
+                       "campaign kept in a store by 'vlb verify --store', from the store alone.")
+    t.add_argument("store", metavar="STORE", help="the SQLite file given to vlb verify --store")
+    t.add_argument("--json", action="store_true", help="print the JSON report")
+    t.set_defaults(func=cmd_report)
 
     p = sub.add_parser("plan", help="print the number of episodes a guarantee needs",
                        description="Least N such that N episodes with at most K failures give "

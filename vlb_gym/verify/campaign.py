@@ -8,23 +8,29 @@ not depend on the number of workers or on the order in which episodes finish.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import multiprocessing as mp
 import platform
 import signal
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
-from vlb_gym.core.library import load_behavior
+import vlb_gym
+from vlb_gym.core.compiler import CompiledBehavior
+from vlb_gym.core.library import load_behavior, spec_json
 from vlb_gym.envs.modules import import_env_module
 from vlb_gym.wrappers import RobustnessWrapper
 
 from . import bounds, sequential
 from .episode import EpisodeResult, Policy, run_episode
+from .store import CampaignStore, StoreError
 
 
 @dataclass(frozen=True)
@@ -91,15 +97,17 @@ def _run_index(index: int) -> EpisodeResult:
                        config.stop_on_failure)
 
 
-def iter_episodes(config: CampaignConfig, workers: int = 1) -> Iterator[EpisodeResult]:
-    """Stream episode results as they finish (in index order for one worker).
+def iter_episodes(config: CampaignConfig, workers: int = 1,
+                  indices: list[int] | None = None) -> Iterator[EpisodeResult]:
+    """Stream episode results as they finish (in index order for one worker); ``indices``
+    (default: all N) are the episodes to run, e.g. those a resumed store lacks.
 
     Worker processes ignore SIGINT: a Ctrl-C raises ``KeyboardInterrupt`` in the caller only, and
     closing or leaving this generator terminates the pool.
     """
     if not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer (got {workers!r})")
-    indices = range(config.episodes)
+    indices = range(config.episodes) if indices is None else indices
     env, policy = build(config)  # also checks the behavior before any worker starts
     if workers == 1:
         for i in indices:
@@ -140,14 +148,15 @@ def failures_by_cause(results: list[EpisodeResult], examples: int = 3) -> list[d
 
 
 def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: float,
-                 workers: int) -> dict[str, Any]:
-    """The JSON report of a finished campaign (keys per ARCHITECTURE.md, plus context)."""
+                 workers: int, distribution: str | None = None) -> dict[str, Any]:
+    """The JSON report of a finished campaign (keys per ARCHITECTURE.md, plus context);
+    ``distribution`` is the sampling distribution in words (asked of the env if not given)."""
     results = sorted(results, key=lambda r: r.index)
     n = len(results)
     failures = sum(not r.success for r in results)
     conf = bounds.confidence(n, failures, config.epsilon)
     low = bounds.lower_bound(n, failures, config.delta)
-    distribution = sampling_distribution(config)
+    distribution = distribution or sampling_distribution(config)
     return {
         "env_id": config.env_id,
         "behavior": config.behavior,
@@ -180,15 +189,82 @@ def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: 
 
 
 def run_campaign(config: CampaignConfig, workers: int = 1,
-                 on_episode: Callable[[EpisodeResult], None] | None = None) -> dict[str, Any]:
-    """Run all N episodes and return the report; ``on_episode`` sees each result as it lands."""
+                 on_episode: Callable[[EpisodeResult], None] | None = None,
+                 store: CampaignStore | None = None) -> dict[str, Any]:
+    """Run all N episodes and return the report; ``on_episode`` sees each result as it lands.
+
+    With a ``store``, the plan is recorded first (or checked against the stored one), every
+    episode is stored as it finishes, the episodes already stored are not run again, and the
+    report is built from the store.
+    """
     started = time.perf_counter()
-    results = []
-    for result in iter_episodes(config, workers):
-        results.append(result)
-        if on_episode is not None:
-            on_episode(result)
-    return build_report(config, results, time.perf_counter() - started, workers)
+    if store is None:
+        results = []
+        for result in iter_episodes(config, workers):
+            results.append(result)
+            if on_episode is not None:
+                on_episode(result)
+        return build_report(config, results, time.perf_counter() - started, workers)
+    plan = campaign_plan(config)
+    store.start(plan)
+    done = store.done()
+    todo = [i for i in range(config.episodes) if i not in done]
+    if todo:
+        for result in iter_episodes(config, workers, todo):
+            store.add(result)
+            if on_episode is not None:
+                on_episode(result)
+    return build_report(config, store.results(), time.perf_counter() - started, workers,
+                        plan["sampling_distribution"])
+
+
+def campaign_plan(config: CampaignConfig) -> dict[str, Any]:
+    """What defines a campaign, as stored first in its store: the config, a digest of the
+    behavior (its whole tree of files) or of the agent, the sampling distribution, versions."""
+    digest = hashlib.sha256()
+    if config.policy:
+        path = Path(config.behavior)
+        digest.update((path if path.suffix == ".zip" else path.with_suffix(".zip")).read_bytes())
+    else:
+        env, policy = build(config)
+        env.close()
+        for behavior in _behavior_tree(policy.behavior):
+            digest.update(spec_json(behavior.spec).encode())
+    plan = {**dataclasses.asdict(config), "content_sha256": digest.hexdigest(),
+            "sampling_distribution": sampling_distribution(config),
+            "versions": {"vlb_gym": vlb_gym.__version__, "gymnasium": gym.__version__,
+                         "numpy": np.__version__, "python": platform.python_version()}}
+    return json.loads(json.dumps(plan))  # as stored: tuples become lists
+
+
+def _behavior_tree(behavior: CompiledBehavior) -> list[CompiledBehavior]:
+    """A compiled behavior and its sub-behaviors, each once, in a fixed order."""
+    seen: dict[str, CompiledBehavior] = {}
+    stack = [behavior]
+    while stack:
+        current = stack.pop()
+        if current.source not in seen:
+            seen[current.source] = current
+            stack.extend(n.child for n in current.nodes.values() if n.child is not None)
+    return [seen[source] for source in sorted(seen)]
+
+
+def report_from_store(store: CampaignStore) -> dict[str, Any]:
+    """The report of the campaign in ``store``, rebuilt from the store alone (complete or not:
+    ``episodes`` is the number stored). Timing is the sum of the episodes' own seconds."""
+    plan = store.plan()
+    if plan is None:
+        raise StoreError(f"{store.path}: the store holds no campaign yet")
+    names = {f.name for f in dataclasses.fields(CampaignConfig)}
+    config = CampaignConfig(**{k: (tuple(v) if k == "env_modules" else v)
+                               for k, v in plan.items() if k in names})
+    results = store.results()
+    if not results:
+        raise StoreError(f"{store.path}: no episode is stored yet")
+    report = build_report(config, results, sum(r.seconds for r in results), 1,
+                          plan["sampling_distribution"])
+    report["planned_episodes"] = config.episodes
+    return report
 
 
 def run_sequential(config: CampaignConfig, max_episodes: int | None = None, workers: int = 1,
