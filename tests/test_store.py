@@ -32,6 +32,14 @@ def stored_indices(path) -> list[int]:
         return [row[0] for row in db.execute("SELECT idx FROM episodes")]
 
 
+def stored_so_far(path) -> int:
+    """Episodes stored by a campaign still starting or running (0 before its tables exist)."""
+    try:
+        return len(stored_indices(path))
+    except sqlite3.OperationalError:
+        return 0
+
+
 @pytest.mark.timeout(180)
 def test_a_campaign_killed_with_sigkill_resumes_to_the_uninterrupted_report(tmp_path):
     store = tmp_path / "campaign.db"
@@ -41,7 +49,7 @@ def test_a_campaign_killed_with_sigkill_resumes_to_the_uninterrupted_report(tmp_
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     proc = subprocess.Popen(command, cwd=root, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 60
-    while not (store.exists() and len(stored_indices(store)) >= 200):
+    while not (store.exists() and stored_so_far(store) >= 200):
         assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
         time.sleep(0.02)
     proc.send_signal(signal.SIGKILL)
@@ -57,7 +65,7 @@ def test_a_campaign_killed_with_sigkill_resumes_to_the_uninterrupted_report(tmp_
     fresh = run_campaign(CampaignConfig(GRID, str(EXAMPLES / "fixed_cell.json"), 3000, seed=4))
     assert comparable(resumed) == {**comparable(fresh), "behavior": resumed["behavior"]}
     assert resumed["behavior"] == "examples/fixed_cell.json"
-    rebuilt = report_from_store(CampaignStore(store, create=False))
+    rebuilt = report_from_store(CampaignStore(store, readonly=True))
     assert rebuilt["planned_episodes"] == 3000
     assert {k: rebuilt[k] for k in ("successes", "failures", "confidence", "lower_bound",
                                     "failures_by_cause")} == \
@@ -110,3 +118,11 @@ def test_vlb_report_rebuilds_the_report_from_the_store(tmp_path, capsys):
         capsys.readouterr().out
     assert main(["report", str(tmp_path / "missing.db")]) == 2
     assert "no such campaign store" in capsys.readouterr().err
+
+
+def test_a_store_in_use_by_another_campaign_is_refused(tmp_path):
+    first = CampaignStore(tmp_path / "s.db")
+    with pytest.raises(StoreError, match="in use by another process"):
+        CampaignStore(tmp_path / "s.db")
+    first.close()
+    CampaignStore(tmp_path / "s.db").close()  # free again once closed

@@ -66,8 +66,12 @@ def cmd_verify(args: argparse.Namespace) -> int:
         path = check_output(args.store, [*inputs, report_out, episodes_out], True, "--store")
         try:
             store = CampaignStore(path)
+        except StoreError as exc:
+            raise UsageError(f"--store {exc}") from None
+        try:
             store.start(campaign_plan(config))
         except StoreError as exc:
+            store.close()
             raise UsageError(f"--store {exc}") from None
         if store.done():
             print(f"vlb verify: resuming {path}: {len(store.done())} of {episodes} episodes "
@@ -101,6 +105,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
             bar.close()
         if stream:
             stream.close()
+        if store:
+            store.close()
     if report is None:
         # counted in the file: Ctrl-C may fall between a line's write and any counter's update
         written = episodes_out.read_bytes().count(b"\n") if stream else 0
@@ -108,8 +114,6 @@ def cmd_verify(args: argparse.Namespace) -> int:
         kept += f"; the store {store.path} keeps every finished episode" if store else ""
         print(f"vlb verify: interrupted{kept}", file=sys.stderr)
         return 130
-    if store:
-        store.close()
     if report_out:
         write_atomic(report_out, json.dumps(report, indent=2) + "\n")
     print(summary(report, args.report))
@@ -204,7 +208,7 @@ def cmd_report(args: argparse.Namespace) -> int:
     from vlb_gym.verify.store import CampaignStore, StoreError
 
     try:
-        store = CampaignStore(args.store, create=False)
+        store = CampaignStore(args.store, readonly=True)
         report = report_from_store(store)
     except StoreError as exc:
         raise UsageError(str(exc)) from None

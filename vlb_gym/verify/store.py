@@ -10,7 +10,9 @@ that is not a vlb-gym store is refused and left untouched.
 
 from __future__ import annotations
 
+import fcntl
 import json
+import os
 import sqlite3
 from dataclasses import fields
 from pathlib import Path
@@ -27,17 +29,23 @@ class StoreError(ValueError):
 
 
 class CampaignStore:
-    """The store at ``path`` (created if missing, unless ``create`` is False)."""
+    """The store at ``path``, created if missing and locked for this process; ``readonly``
+    opens an existing store to read it, also while a campaign writes it."""
 
-    def __init__(self, path: str | Path, create: bool = True):
+    def __init__(self, path: str | Path, readonly: bool = False):
         self.path = Path(path)
         if self.path.exists() and not self.path.is_file():
             raise StoreError(f"{self.path}: not a regular file")
-        if not self.path.exists() and not create:
+        if readonly and not self.path.exists():
             raise StoreError(f"{self.path}: no such campaign store")
         fresh = not self.path.exists() or self.path.stat().st_size == 0
-        if not fresh:
+        if not fresh or readonly:
             self._check_foreign()
+        self._lock: int | None = None
+        if readonly:
+            self.db = sqlite3.connect(f"file:{self.path}?mode=ro", uri=True, isolation_level=None)
+            return
+        self._lock = self._exclusive()
         self.db = sqlite3.connect(self.path, isolation_level=None)
         self.db.execute("PRAGMA journal_mode=WAL")
         # NORMAL: a commit is in the WAL before add() returns, safe from the process being
@@ -62,8 +70,21 @@ class CampaignStore:
         if app != APPLICATION_ID or not {"plan", "episodes"} <= tables:
             raise StoreError(f"{self.path}: not a vlb-gym campaign store")
 
+    def _exclusive(self) -> int:
+        """An exclusive lock on the store for this process (released when it ends, however):
+        two campaigns writing one store would interleave their episodes."""
+        fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(fd)
+            raise StoreError(f"{self.path}: in use by another process") from None
+        return fd
+
     def close(self) -> None:
         self.db.close()
+        if self._lock is not None:
+            os.close(self._lock)
 
     def plan(self) -> dict[str, Any] | None:
         row = self.db.execute("SELECT plan FROM plan WHERE id = 1").fetchone()
