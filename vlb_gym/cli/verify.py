@@ -60,7 +60,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     report_out = (check_output(args.report, inputs, True, "--report") if args.report else None)
     if report_out and episodes_out and report_out.resolve() == episodes_out.resolve():
         raise UsageError("--report and --episodes-out name the same file")
-    store = None
+    store = plan = None
     if args.store:  # an existing store is resumed: its plan must be this command's
         from vlb_gym.verify.store import CampaignStore, StoreError
         path = check_output(args.store, [*inputs, report_out, episodes_out], True, "--store")
@@ -69,7 +69,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
         except StoreError as exc:
             raise UsageError(f"--store {exc}") from None
         try:
-            store.start(campaign_plan(config))
+            plan = campaign_plan(config)
+            store.start(plan)
         except StoreError as exc:
             store.close()
             raise UsageError(f"--store {exc}") from None
@@ -97,7 +98,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         if args.sequential:
             report = run_sequential(config, max_episodes, workers, on_episode)
         else:
-            report = run_campaign(config, workers, on_episode, store)
+            report = run_campaign(config, workers, on_episode, store, plan)
     except KeyboardInterrupt:  # the pool's workers ignore Ctrl-C; leaving run_campaign ends them
         report = None
     finally:

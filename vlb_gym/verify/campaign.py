@@ -190,10 +190,12 @@ def build_report(config: CampaignConfig, results: list[EpisodeResult], seconds: 
 
 def run_campaign(config: CampaignConfig, workers: int = 1,
                  on_episode: Callable[[EpisodeResult], None] | None = None,
-                 store: CampaignStore | None = None) -> dict[str, Any]:
+                 store: CampaignStore | None = None,
+                 plan: dict[str, Any] | None = None) -> dict[str, Any]:
     """Run all N episodes and return the report; ``on_episode`` sees each result as it lands.
 
-    With a ``store``, the plan is recorded first (or checked against the stored one), every
+    With a ``store``, the plan (``plan``, if the caller made it already with
+    :func:`campaign_plan`) is recorded first (or checked against the stored one), every
     episode is stored as it finishes, the episodes already stored are not run again, and the
     report is built from the store.
     """
@@ -205,7 +207,7 @@ def run_campaign(config: CampaignConfig, workers: int = 1,
             if on_episode is not None:
                 on_episode(result)
         return build_report(config, results, time.perf_counter() - started, workers)
-    plan = campaign_plan(config)
+    plan = plan or campaign_plan(config)
     store.start(plan)
     done = store.done()
     todo = [i for i in range(config.episodes) if i not in done]
