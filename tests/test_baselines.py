@@ -15,7 +15,7 @@ from vlb_gym.baselines.train import make_env, train
 from vlb_gym.baselines.wrappers import ActionMasks, FlatActions
 from vlb_gym.cli import main
 from vlb_gym.baselines.tasks import LEGS
-from vlb_gym.verify import CampaignConfig, iter_episodes, run_campaign, run_episode
+from vlb_gym.verify import Campaign, CampaignConfig, PolicyRef, run_campaign, run_episode
 
 GRID = "VLB-GridExplore-v0"
 
@@ -87,9 +87,10 @@ def test_train_save_load_verify_round_trip(algorithm, tmp_path):
     assert len(saved) == 1 and saved[0].exists()
     meta = json.loads(saved[0].with_suffix(".json").read_text())
     assert meta["algorithm"] == algorithm and meta["steps"] >= 256
-    config = CampaignConfig(GRID, str(saved[0]), 12, seed=5, env_kwargs=meta["env_kwargs"],
-                            policy=True)
-    results = sorted(iter_episodes(config), key=lambda r: r.index)
+    config = CampaignConfig(GRID, PolicyRef("sb3", str(saved[0])), 12, seed=5)
+    with Campaign(config) as campaign:  # the agent's training env kwargs apply
+        assert campaign.config.env_kwargs == meta["env_kwargs"]
+        results = sorted(campaign.episodes(), key=lambda r: r.index)
     report = run_campaign(config)
     k = sum(not r.success for r in results)
     assert report["failures"] == k and report["successes"] == 12 - k
@@ -104,7 +105,8 @@ def test_cli_verify_policy_and_mismatch(tmp_path, capsys):
     assert main(["verify", GRID, "--policy", str(saved), "--episodes", "5", "--epsilon", "0.1",
                  "--report", str(tmp_path / "r.json")]) == 0
     report = json.loads((tmp_path / "r.json").read_text())
-    assert report["policy"] is True and report["episodes"] == 5
+    assert report["policy"] == {"kind": "sb3", "ref": str(saved.resolve()), "library": None}
+    assert report["episodes"] == 5
     assert report["env_kwargs"]["task"] == "find_goal"
     assert main(["verify", "VLB-Scoop-v0", "--policy", str(saved), "--episodes", "5",
                  "--epsilon", "0.1"]) == 2

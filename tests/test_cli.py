@@ -10,6 +10,7 @@ import sys
 import pytest
 
 from vlb_gym.cli import main
+from vlb_gym.verify.export import read_export
 
 from .conftest import EXAMPLES
 
@@ -38,9 +39,13 @@ def test_verify_paper_campaign_with_report(tmp_path):
     assert "successes 100/100" in out and "confidence 0.99407" in out  # 0.9940795, floored
     report = json.loads(report_path.read_text())
     assert report["episodes"] == 100 and report["failures"] == 0 and report["seed"] == 0
-    lines = [json.loads(line) for line in stream.read_text().splitlines()]
-    assert sorted(r["index"] for r in lines) == list(range(100))
-    assert all(r["rho"] == 1 for r in lines)
+    plan, episodes, end = read_export(stream)
+    assert plan["episodes"] == 100 and plan["policy"]["ref"] == "find_goal_and_oscillate"
+    assert sorted(r.index for r in episodes) == list(range(100))
+    assert all(r.rho == 1 and len(r.steps) == r.primitives > 0 for r in episodes)
+    assert all(s["certificate"] and s["node"] in (
+        "to_goal", "to_start", "explore_until_goal/sense", "explore_until_goal/go") for r in episodes for s in r.steps)
+    assert end == {"complete": True, "episodes": 100}
 
 
 def test_verify_failing_behavior_exits_zero_and_names_seeds(tmp_path, capsys):

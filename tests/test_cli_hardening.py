@@ -22,8 +22,10 @@ from scipy.stats import binom, poisson
 from vlb_gym.cli import common, main
 from vlb_gym.envs.grid_explore import GridExploreEnv
 from vlb_gym.verify import bounds
-from vlb_gym.verify.campaign import CampaignConfig, build_report
+from vlb_gym.verify.campaign import Campaign, CampaignConfig
+from vlb_gym.verify.report import Report
 from vlb_gym.verify.episode import EpisodeResult
+from vlb_gym.verify.export import read_export
 
 from .conftest import EXAMPLES
 
@@ -79,7 +81,7 @@ def test_an_existing_episodes_out_needs_force(tmp_path, capsys):
     one_line_error(capsys, "exists already", "--force")
     assert stream.read_text() == "precious\n"
     assert verify("--episodes-out", str(stream), "--force") == 0
-    assert [json.loads(line)["index"] for line in stream.read_text().splitlines()] == [0, 1, 2]
+    assert [r.index for r in read_export(stream)[1]] == [0, 1, 2]
 
 
 def test_an_existing_report_is_replaced(tmp_path):
@@ -274,7 +276,7 @@ def test_ctrl_c_keeps_the_episodes_and_prints_one_line(tmp_path):
         start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 40
-        while not (stream.exists() and stream.stat().st_size > 2000):
+        while not (stream.exists() and stream.read_text().count('"record":"episode"') > 5):
             assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
             time.sleep(0.05)
         os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C in a terminal does
@@ -282,12 +284,13 @@ def test_ctrl_c_keeps_the_episodes_and_prints_one_line(tmp_path):
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    lines = stream.read_text().splitlines()
+    plan, episodes, end = read_export(stream)
     assert proc.returncode == 130, err
     assert "Traceback" not in err and err.count("\n") == 1, err
-    assert err == f"vlb verify: interrupted; {len(lines)} episode(s) written to {stream}\n"
-    assert 0 < len(lines) < 100000
-    assert all(json.loads(line)["rho"] == 1 for line in lines)
+    assert err == f"vlb verify: interrupted; {len(episodes)} episode(s) written to {stream}\n"
+    assert 0 < len(episodes) < 100000 and plan["episodes"] == 100000
+    assert end == {"complete": False, "episodes": len(episodes)}
+    assert all(r.rho == 1 for r in episodes)
 
 
 def test_ctrl_c_in_any_command_is_one_line(monkeypatch, capsys):
@@ -386,25 +389,25 @@ def test_floor_str_rounds_down():
     assert bounds.one_minus_str(1e-7) == "0.9999999"
 
 
-def campaign_report(n: int, failures: int, epsilon: float = 0.05, delta: float = 0.05) -> dict:
-    config = CampaignConfig(GRID, "explore_until_goal", n, epsilon, delta)
+def campaign_report(n: int, failures: int, epsilon: float = 0.05, delta: float = 0.05
+                    ) -> Report:
+    with Campaign(CampaignConfig(GRID, "explore_until_goal", n, epsilon, delta)) as campaign:
+        plan = campaign.plan
     results = [EpisodeResult(i, i, -1 if i < failures else 1, True, 3, int(i < failures),
                              "x" if i < failures else None, 0.0) for i in range(n)]
-    return build_report(config, results, 1.0, 1)
+    return Report.fixed_n(plan, results, 1.0, 1)
 
 
 def test_printed_guarantees_never_claim_more_than_computed():
-    from vlb_gym.cli.verify import summary
-
     report = campaign_report(1125, 44)
     assert report["lower_bound"] == pytest.approx(0.9499958, abs=1e-7)
     assert "P[success] >= 0.94999 at confidence level 0.95" in report["statement"]
-    assert "P[success] >= 0.94999 at confidence level 0.95" in summary(report)
+    assert "P[success] >= 0.94999 at confidence level 0.95" in report.summary()
     report = campaign_report(2000, 0)
     assert "with confidence 0.99999" in report["statement"]
-    assert "with confidence 0.99999" in summary(report)
+    assert "with confidence 0.99999" in report.summary()
     report = campaign_report(20, 0, epsilon=1e-7)
-    assert "P[success] >= 0.9999999 with confidence" in summary(report)
+    assert "P[success] >= 0.9999999 with confidence" in report.summary()
 
 
 def test_plan_prints_the_reached_confidence_rounded_down(capsys):

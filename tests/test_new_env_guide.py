@@ -16,7 +16,6 @@ from typing import Any
 import pytest
 
 from vlb_gym.cli import main
-from vlb_gym.cli.verify import summary
 from vlb_gym.envs.modules import import_env_module
 from vlb_gym.verify import CampaignConfig, run_campaign
 
@@ -87,7 +86,7 @@ def test_guide_command_prints_what_a_campaign_prints(monkeypatch):
     command, *shown = session.rstrip("\n").splitlines()
     assert command == COMMAND
     config = CampaignConfig(EXAMPLE_ID, "examples/integrator_reach.json", 100, epsilon=0.05)
-    printed = summary(run_campaign(config)).splitlines()
+    printed = run_campaign(config).summary().splitlines()
     timing = re.compile(r"\d+\.\d s, \d+ episodes/s")
     assert [timing.sub("", line) for line in shown] == [timing.sub("", line) for line in printed]
 

@@ -155,7 +155,7 @@ def test_campaign_undecided_at_the_cap_certifies_nothing():
 
 def test_fixed_n_campaign_never_stops_early():
     report = run_campaign(CampaignConfig(GRID, "find_goal_and_oscillate", 100))
-    assert report["episodes"] == 100 and "mode" not in report
+    assert report["episodes"] == 100 and report["mode"] == "fixed-N"
 
 
 def test_cli_sequential(tmp_path, capsys):

@@ -9,7 +9,7 @@ from scipy.stats import beta, binom
 
 from vlb_gym import RobustnessWrapper, load_behavior
 from vlb_gym.wrappers.robustness import behavior_robustness
-from vlb_gym.verify import CampaignConfig, episode_seed, iter_episodes, run_campaign, run_episode
+from vlb_gym.verify import Campaign, CampaignConfig, episode_seed, run_campaign, run_episode
 
 from .conftest import EXAMPLES
 
@@ -94,8 +94,9 @@ def test_episode_seeds_are_spawned_children():
 def test_results_do_not_depend_on_workers():
     config = CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 24, seed=3,
                             env_kwargs={"action_noise": 2.0})
-    one = sorted(iter_episodes(config, 1), key=lambda r: r.index)
-    two = sorted(iter_episodes(config, 2), key=lambda r: r.index)
+    with Campaign(config) as campaign:
+        one = sorted(campaign.episodes(workers=1), key=lambda r: r.index)
+        two = sorted(campaign.episodes(workers=2), key=lambda r: r.index)
     strip = lambda r: {**r.to_dict(), "seconds": 0}  # noqa: E731
     assert [strip(r) for r in one] == [strip(r) for r in two]
     assert any(not r.success for r in one) and any(r.success for r in one)
@@ -121,7 +122,7 @@ def test_wrong_behavior_gets_failure_tolerant_bound_and_replayable_seeds():
     assert report["lower_bound"] == pytest.approx(beta.ppf(0.1, n - k, k + 1))
     assert len(report["failed_episodes"]) == k
     env = RobustnessWrapper(gym.make("VLB-GridExplore-v0"))
-    policy = load_behavior(config.behavior, env)
+    policy = load_behavior(config.policy.ref, env)
     for failed in report["failed_episodes"][:5]:
         assert failed["seed"] == episode_seed(11, failed["index"])
         replay = run_episode(env, policy, failed["seed"])
@@ -132,7 +133,7 @@ def test_wrong_behavior_gets_failure_tolerant_bound_and_replayable_seeds():
 def test_campaign_config_rejects_bad_values():
     for kwargs, word in [({"episodes": 0}, "episodes"), ({"epsilon": 1.0}, "epsilon"),
                          ({"delta": 0}, "delta"), ({"seed": -1}, "seed")]:
-        base = dict(env_id="VLB-GridExplore-v0", behavior="explore_until_goal", episodes=5)
+        base = dict(env_id="VLB-GridExplore-v0", policy="explore_until_goal", episodes=5)
         with pytest.raises(ValueError, match=word):
             CampaignConfig(**{**base, **kwargs})
 

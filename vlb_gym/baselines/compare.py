@@ -8,7 +8,6 @@ bound vs training steps for the agents, graphs as horizontal lines), plus ``comp
 from __future__ import annotations
 
 import json
-import os
 import platform
 import time
 from dataclasses import asdict, dataclass
@@ -16,6 +15,8 @@ from pathlib import Path
 
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
+from vlb_gym.verify.policies import PolicyRef
+from vlb_gym.verify.report import Report
 
 from .configs import ALGORITHMS, SYNTHESES, TASKS, TaskConfig
 
@@ -38,11 +39,11 @@ class Row:
     verify_seconds: float
 
 
-def _verify(task: TaskConfig, behavior: str, episodes: int, seed: int, policy: bool,
-            workers: int) -> dict:
-    config = CampaignConfig(task.env_id, behavior, episodes, EPSILON, DELTA, seed,
-                            task.env_kwargs, policy=policy)
-    return run_campaign(config, workers)
+def _verify(task: TaskConfig, policy: PolicyRef, episodes: int, seed: int,
+            workers: int) -> Report:
+    kwargs = {} if policy.kind == "sb3" else task.env_kwargs  # an agent brings its own
+    return run_campaign(CampaignConfig(task.env_id, policy, episodes, EPSILON, DELTA, seed,
+                                       kwargs), workers)
 
 
 def _row(task: TaskConfig, name: str, kind: str, report: dict, steps: int | None = None,
@@ -78,33 +79,26 @@ def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 10
     # the synthesized behaviors (and their transcripts) are kept with the results; campaigns,
     # worker processes included, resolve behavior names in that library
     library = BehaviorLibrary(out / "behaviors")
-    previous = os.environ.get("VLB_BEHAVIOR_DIR")
-    os.environ["VLB_BEHAVIOR_DIR"] = str(library.directory)
-    try:
-        synthesized_graphs(library)
-        for name in tasks:
-            task = TASKS[name]
-            for behavior, kind in ((task.graph, "graph"), (task.synthesized, "synthesized graph")):
-                report = _verify(task, behavior, episodes, seed, False, workers)
-                rows.append(_row(task, behavior, kind, report))
-                log(f"{name}: {kind} {behavior}: {report['successes']}/{episodes}")
-            for algorithm in algorithms:
-                started = time.perf_counter()
-                checkpoints = train(task, algorithm, out / "agents", seed=seed, n_envs=n_envs,
-                                    budgets=budgets, tensorboard=out / "tensorboard")
-                log(f"{name}: trained {algorithm} in {time.perf_counter() - started:.0f} s")
-                for path in checkpoints:
-                    meta = json.loads(path.with_suffix(".json").read_text())
-                    report = _verify(task, str(path), episodes, seed, True, workers)
-                    rows.append(_row(task, algorithm, "rl", report, meta["steps"],
-                                     meta["wall_seconds"]))
-                    log(f"{name}: {algorithm} @ {meta['steps']} steps: "
-                        f"{report['successes']}/{episodes}")
-    finally:
-        if previous is None:
-            os.environ.pop("VLB_BEHAVIOR_DIR", None)
-        else:
-            os.environ["VLB_BEHAVIOR_DIR"] = previous
+    synthesized_graphs(library)
+    for name in tasks:
+        task = TASKS[name]
+        for behavior, kind in ((task.graph, "graph"), (task.synthesized, "synthesized graph")):
+            ref = PolicyRef("behavior", behavior, str(library.directory))
+            report = _verify(task, ref, episodes, seed, workers)
+            rows.append(_row(task, behavior, kind, report))
+            log(f"{name}: {kind} {behavior}: {report['successes']}/{episodes}")
+        for algorithm in algorithms:
+            started = time.perf_counter()
+            checkpoints = train(task, algorithm, out / "agents", seed=seed, n_envs=n_envs,
+                                budgets=budgets, tensorboard=out / "tensorboard")
+            log(f"{name}: trained {algorithm} in {time.perf_counter() - started:.0f} s")
+            for path in checkpoints:
+                meta = json.loads(path.with_suffix(".json").read_text())
+                report = _verify(task, PolicyRef("sb3", str(path)), episodes, seed, workers)
+                rows.append(_row(task, algorithm, "rl", report, meta["steps"],
+                                 meta["wall_seconds"]))
+                log(f"{name}: {algorithm} @ {meta['steps']} steps: "
+                    f"{report['successes']}/{episodes}")
     (out / "compare.json").write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
     (out / "compare.md").write_text(markdown(rows, episodes, seed))
     plot(rows, out / "compare.png")

@@ -7,6 +7,7 @@ rebuilds exactly the environment it was trained for.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import time
 from pathlib import Path
@@ -146,3 +147,26 @@ def policy_env_kwargs(path: str | Path) -> tuple[str, dict[str, Any]]:
     """The env id and kwargs an agent was trained on (from its metadata)."""
     meta = load_metadata(path)
     return meta["env_id"], dict(meta["env_kwargs"])
+
+
+class SB3Loader:
+    """Trained agents as the policies of campaigns (policy kind ``sb3``): ``NAME.zip`` with its
+    metadata ``NAME.json`` beside it."""
+
+    option = "--policy"
+
+    def load(self, ref, env: gym.Env) -> SB3Policy:
+        return SB3Policy(ref.ref, env)
+
+    def files(self, ref, policy: SB3Policy) -> list[Path]:
+        return list(agent_files(ref.ref))
+
+    def content(self, ref, policy: SB3Policy) -> dict[str, Any]:
+        """A digest of the saved agent and its metadata."""
+        digest = hashlib.sha256()
+        for path in agent_files(ref.ref):
+            digest.update(path.read_bytes())
+        return {"sha256": digest.hexdigest(), "algorithm": policy.meta["algorithm"]}
+
+    def trained_env(self, ref) -> tuple[str, dict[str, Any]]:
+        return policy_env_kwargs(ref.ref)

@@ -10,14 +10,9 @@ import os
 import sys
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import Any, NoReturn
 
 import gymnasium as gym
-
-import vlb_gym
-
-if TYPE_CHECKING:
-    from vlb_gym.core.compiler import CompiledBehavior
 
 
 class UsageError(Exception):
@@ -98,55 +93,28 @@ def env_kwargs(pairs: list[str]) -> dict[str, Any]:
 
 
 def env_modules(refs: list[str]) -> tuple[str, ...]:
-    """Import the ``--env-module`` modules (which register the user's envs); file paths come back
-    absolute, as campaign workers import them again."""
-    from vlb_gym.envs.modules import import_env_module, is_path
+    """The ``--env-module`` references (modules that register the user's envs) as campaigns keep
+    them: file paths absolute, as campaign workers import them again."""
+    from vlb_gym.envs.modules import is_path
 
-    for ref in refs:
-        try:
-            import_env_module(ref)
-        except Exception as exc:  # a module of the user's: any failure is their input's
-            raise UsageError(f"--env-module {ref}: {type(exc).__name__}: {exc}") from None
     return tuple(str(Path(ref).resolve()) if is_path(ref) else ref for ref in refs)
+
+
+def open_env(env_id: str, kwargs: dict[str, Any], modules: tuple[str, ...] = ()) -> gym.Env:
+    """The env, made and reset once (see :func:`~vlb_gym.envs.modules.make_primitive_env`);
+    a bad id, module or setting is a usage error."""
+    from vlb_gym.envs.modules import EnvSetupError, make_primitive_env
+
+    try:
+        return make_primitive_env(env_id, kwargs, modules)
+    except EnvSetupError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def check_env(env_id: str, kwargs: dict[str, Any], modules: tuple[str, ...] = ()) -> None:
     """Refuse env ids that are neither vlb-gym's nor a PrimitiveEnv of an ``--env-module``, and
-    settings the env refuses: it is made and reset once here, so that impossible settings fail
-    now, not in every episode."""
-    from vlb_gym.core.env import PrimitiveEnv
-
-    unknown = UsageError(f"unknown environment {env_id!r} (vlb-gym registers: "
-                         f"{', '.join(vlb_gym.ENV_IDS)}; an env of your own needs --env-module)")
-    if env_id not in vlb_gym.ENV_IDS and (not modules or env_id not in gym.registry):
-        raise unknown
-    steps = kwargs.get("max_episode_steps", 1)
-    if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
-        raise UsageError(f"{env_id}: max_episode_steps must be a positive integer (got {steps!r})")
-    try:
-        env = gym.make(env_id, **kwargs)
-        try:
-            if not isinstance(env.unwrapped, PrimitiveEnv):
-                raise unknown
-            env.reset(seed=0)
-        finally:
-            env.close()
-    except ImportError as exc:
-        raise UsageError(str(exc)) from None
-    except (TypeError, ValueError) as exc:
-        # gym.make appends "was raised from the environment creator ..." to a TypeError
-        message = str(exc).split(" was raised from the environment creator")[0]
-        raise UsageError(f"{env_id}: bad environment arguments {kwargs}: {message}") from None
-
-
-def behavior_files(compiled: CompiledBehavior) -> list[Path]:
-    """The files a compiled behavior was read from, its sub-behaviors' included (shipped
-    behaviors have a bare name as source and are no file of the user's)."""
-    files = [Path(compiled.source)] if Path(compiled.source).is_absolute() else []
-    for node in compiled.nodes.values():
-        if node.child is not None:
-            files += behavior_files(node.child)
-    return files
+    settings the env refuses, before any work."""
+    open_env(env_id, kwargs, modules).close()
 
 
 def _same_file(a: Path, b: Path) -> bool:

@@ -15,7 +15,6 @@ from vlb_gym.core.files import read_limited, write_atomic
 from .common import (UsageError, add_env_module, add_model_options, check_env, check_output,
                      count, env_modules, probability)
 from .library import graph_text
-from .verify import summary
 
 if TYPE_CHECKING:
     from vlb_gym.abstractor.backends import ChatBackend
@@ -89,7 +88,7 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
     if args.verify:
         config = CampaignConfig(args.env_id, str(path) if args.out else compiled.name,
                                 args.verify, args.epsilon, seed=args.seed, env_modules=modules)
-        print(summary(run_campaign(config)))
+        print(run_campaign(config).summary())
     return 0
 
 

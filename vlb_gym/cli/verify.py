@@ -3,25 +3,34 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import io
 import json
 import sys
+from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 
 from vlb_gym.core.files import write_atomic
-from vlb_gym.wrappers import RobustnessWrapper
 
-from .common import (UsageError, add_env_kwarg, behavior_files, check_env, check_output,
-                     clamp_workers, count, env_kwargs, env_modules, probability)
+from .common import (UsageError, add_env_kwarg, check_output, clamp_workers, count, env_kwargs,
+                     env_modules, probability)
 
 
-def cmd_verify(args: argparse.Namespace) -> int:
-    from vlb_gym.verify.campaign import (CampaignConfig, build, campaign_plan, run_campaign,
-                                         run_sequential)
+def _policy_ref(args: argparse.Namespace):
+    """The policy named by --policy or --behavior; files by absolute path, so that a store's plan
+    means the same from any directory."""
+    from vlb_gym.core.library import is_path
+    from vlb_gym.verify.policies import PolicyRef
 
+    if args.policy:
+        return PolicyRef("sb3", str(Path(args.policy).resolve()))
+    ref = args.behavior
+    return PolicyRef("behavior", str(Path(ref).resolve()) if is_path(ref) else ref)
+
+
+def _check_verify_args(args: argparse.Namespace) -> None:
     if args.sequential and args.episodes is not None:
         raise UsageError("--episodes and --sequential exclude each other: a sequential campaign "
                          "stops by itself (cap it with --max-episodes)")
@@ -31,197 +40,119 @@ def cmd_verify(args: argparse.Namespace) -> int:
         raise UsageError("--max-episodes needs --sequential (a fixed-N campaign runs --episodes)")
     if args.store and args.sequential:
         raise UsageError("--store keeps fixed-N campaigns only (for now); drop --sequential")
+    if args.ray_address and args.backend != "ray":
+        raise UsageError("--ray-address needs --backend ray")
+
+
+def _open_store(path: Path, campaign):
+    """The store at ``path``, holding (or now recording) ``campaign``'s plan."""
+    from vlb_gym.verify.store import CampaignStore, StoreError
+
+    try:
+        store = CampaignStore(path)
+    except StoreError as exc:
+        raise UsageError(f"--store {exc}") from None
+    try:
+        store.start(campaign.plan)
+    except StoreError as exc:
+        store.close()
+        raise UsageError(f"--store {exc}") from None
+    if store.done():
+        print(f"vlb verify: resuming {path}: {len(store.done())} of {campaign.config.episodes} "
+              "episodes are stored", file=sys.stderr)
+    return store
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    from vlb_gym.verify.campaign import Campaign, CampaignConfig
+    from vlb_gym.verify.export import EpisodesExport
+
+    _check_verify_args(args)
     if args.sequential:
         from vlb_gym.verify.sequential import default_max_episodes
-        max_episodes = args.max_episodes or default_max_episodes(args.epsilon, args.delta)
-    kwargs = env_kwargs(args.env_kwarg)
-    if args.policy:
-        from vlb_gym.baselines.train import agent_files, policy_env_kwargs
-        try:
-            env_id, trained = policy_env_kwargs(args.policy)
-        except ValueError as exc:
-            raise UsageError(str(exc)) from None
-        if env_id != args.env_id:
-            raise UsageError(f"--policy {args.policy} was trained on {env_id}, not {args.env_id}")
-        kwargs = {**trained, **kwargs}
-    modules = env_modules(args.env_module)
-    check_env(args.env_id, kwargs, modules)
-    episodes = max_episodes if args.sequential else args.episodes
-    config = CampaignConfig(args.env_id, args.policy or args.behavior, episodes,
-                            args.epsilon, args.delta, args.seed, kwargs,
-                            stop_on_failure=not args.keep_going, policy=bool(args.policy),
-                            env_modules=modules)
-    env, policy = build(config)  # compile the behavior here: a bad file fails before any episode
-    env.close()
-    inputs = agent_files(args.policy) if args.policy else behavior_files(policy.behavior)
-    episodes_out = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
-                    if args.episodes_out else None)
+        episodes = args.max_episodes or default_max_episodes(args.epsilon, args.delta)
+    else:
+        episodes = args.episodes
+    config = CampaignConfig(args.env_id, _policy_ref(args), episodes, args.epsilon, args.delta,
+                            args.seed, env_kwargs(args.env_kwarg),
+                            stop_on_failure=not args.keep_going,
+                            env_modules=env_modules(args.env_module))
+    campaign = Campaign(config)  # checks the env and the policy before any episode
+    inputs = campaign.files
+    export = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
+              if args.episodes_out else None)
     # a report is replaced without --force: atomically, once the campaign is done
-    report_out = (check_output(args.report, inputs, True, "--report") if args.report else None)
-    if report_out and episodes_out and report_out.resolve() == episodes_out.resolve():
+    report_out = check_output(args.report, inputs, True, "--report") if args.report else None
+    if report_out and export and report_out.resolve() == export.resolve():
         raise UsageError("--report and --episodes-out name the same file")
-    store = plan = None
+    store = None
     if args.store:  # an existing store is resumed: its plan must be this command's
-        from vlb_gym.verify.store import CampaignStore, StoreError
-        path = check_output(args.store, [*inputs, report_out, episodes_out], True, "--store")
-        try:
-            store = CampaignStore(path)
-        except StoreError as exc:
-            raise UsageError(f"--store {exc}") from None
-        try:
-            plan = campaign_plan(config)
-            store.start(plan)
-        except StoreError as exc:
-            store.close()
-            raise UsageError(f"--store {exc}") from None
-        if store.done():
-            print(f"vlb verify: resuming {path}: {len(store.done())} of {episodes} episodes "
-                  "are stored", file=sys.stderr)
-    workers = clamp_workers(args.workers, episodes, "verify")
-    stream = None
-    if episodes_out:
-        episodes_out.parent.mkdir(parents=True, exist_ok=True)
-        stream = open(episodes_out, "w" if args.force else "x")
+        store = _open_store(check_output(args.store, [*inputs, report_out, export], True,
+                                         "--store"), campaign)
+    workers = clamp_workers(args.workers, episodes, "verify") if args.backend != "ray" else \
+        args.workers
+    stream = EpisodesExport(export, campaign.plan, args.force) if export else None
     bar = None
     if not args.quiet and sys.stderr.isatty():
         from tqdm import tqdm
-        bar = tqdm(total=config.episodes, unit="ep", file=sys.stderr, dynamic_ncols=True)
+        bar = tqdm(total=episodes, initial=len(store.done()) if store else 0, unit="ep",
+                   file=sys.stderr, dynamic_ncols=True)
 
     def on_episode(result):
         if stream:
-            stream.write(json.dumps(result.to_dict()) + "\n")
-            stream.flush()
+            stream.add(result)
         if bar:
             bar.update()
 
+    report = None
     try:
         if args.sequential:
-            report = run_sequential(config, max_episodes, workers, on_episode)
+            report = campaign.run_sequential(workers, on_episode, args.backend, args.ray_address)
         else:
-            report = run_campaign(config, workers, on_episode, store, plan)
-    except KeyboardInterrupt:  # the pool's workers ignore Ctrl-C; leaving run_campaign ends them
-        report = None
+            report = campaign.run(workers, on_episode, store, args.backend, args.ray_address)
+    except KeyboardInterrupt:  # the workers ignore Ctrl-C; leaving the run stops them
+        pass
     finally:
         if bar:
             bar.close()
         if stream:
-            stream.close()
+            stream.close(complete=report is not None)
         if store:
             store.close()
+        campaign.close()
     if report is None:
-        # counted in the file: Ctrl-C may fall between a line's write and any counter's update
-        written = episodes_out.read_bytes().count(b"\n") if stream else 0
-        kept = f"; {written} episode(s) written to {episodes_out}" if stream else ""
+        kept = f"; {stream.written} episode(s) written to {export}" if stream else ""
         kept += f"; the store {store.path} keeps every finished episode" if store else ""
         print(f"vlb verify: interrupted{kept}", file=sys.stderr)
         return 130
     if report_out:
-        write_atomic(report_out, json.dumps(report, indent=2) + "\n")
-    print(summary(report, args.report))
+        write_atomic(report_out, report.to_json())
+    print(report.summary(args.report))
     return 0
 
 
-def _rate(value: float) -> str:
-    return f"{value:.0f}" if value >= 100 else f"{value:.3g}"
+def _read_store(path: str):
+    """The plan and the store at ``path``, opened read-only."""
+    from vlb_gym.verify.store import CampaignStore, StoreError
 
-
-def summary(report: dict[str, Any], report_path: str | None = None) -> str:
-    """The human-readable outcome of a campaign."""
-    from vlb_gym.verify import bounds
-
-    if report.get("mode") == "sequential":
-        return _sequential_summary(report, report_path)
-    lines = [
-        f"{report['env_id']} / {report['behavior']}: {report['episodes']} episodes "
-        f"(seed {report['seed']}, {report['workers']} worker(s), {report['wall_seconds']:.1f} s, "
-        f"{_rate(report['episodes_per_second'])} episodes/s)",
-        f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
-        f"  P[success] >= {bounds.one_minus_str(report['epsilon'])} with confidence "
-        f"{bounds.floor_str(report['confidence'])}",
-        f"  P[success] >= {bounds.floor_str(report['lower_bound'])} at confidence level "
-        f"{bounds.one_minus_str(report['delta'])} (one-sided Clopper-Pearson)",
-        f"  holds for: {report['sampling_distribution']}",
-    ]
-    lines += _failures(report, report_path)
-    return "\n".join(lines)
-
-
-def _sequential_summary(report: dict[str, Any], report_path: str | None) -> str:
-    from vlb_gym.verify import bounds
-    from vlb_gym.verify.campaign import _ceil_str
-
-    eps = bounds.one_minus_str(report["epsilon"])
-    level = bounds.one_minus_str(report["delta"])
-    a, b = report["prior"]
-    decision = report["decision"]
-    lines = [
-        f"{report['env_id']} / {report['behavior']}: sequential, {report['episodes']} episodes "
-        f"(at most {report['max_episodes']}; seed {report['seed']}, {report['workers']} "
-        f"worker(s), {report['wall_seconds']:.1f} s, {_rate(report['episodes_per_second'])} "
-        "episodes/s)",
-        f"  successes {report['successes']}/{report['episodes']}, failures {report['failures']}",
-    ]
-    if decision == "certified":
-        lines.append(f"  CERTIFIED after {report['stopped_at']} episodes: P[success] >= {eps} at "
-                     f"confidence level {level}, valid however often the test looked")
-    elif decision == "refuted":
-        lines.append(f"  REFUTED after {report['stopped_at']} episodes: P[success] < {eps} at "
-                     f"confidence level {level}, valid however often the test looked")
-    else:
-        lines.append(f"  UNDECIDED after {report['episodes']} episodes (the cap, --max-episodes): "
-                     f"neither P[success] >= {eps} nor its negation is established; nothing is "
-                     "certified")
-    lines += [
-        f"  anytime-valid: P[success] in [{bounds.floor_str(report['lower_bound'])}, "
-        f"{_ceil_str(report['upper_bound'])}] at confidence level {level}, simultaneously for "
-        "every number of episodes",
-        f"  test: {report['test']}, mixing prior Beta({a:g}, {b:g}); Ville's inequality: the "
-        f"true P[success] leaves the interval at some n with probability <= {report['delta']:g}",
-        f"  fixed-N plan for comparison: {report['fixed_n_plan']} episodes with no failure "
-        "('vlb plan')",
-        f"  holds for: {report['sampling_distribution']}",
-    ]
-    lines += _failures(report, report_path)
-    return "\n".join(lines)
-
-
-def _failures(report: dict[str, Any], report_path: str | None) -> list[str]:
-    lines = [f"  failures by cause: {group['count']} x {group['cause']} (e.g. seed "
-             f"{group['seeds'][0]})" for group in report["failures_by_cause"]]
-    failed = report["failed_episodes"]
-    for item in failed[:5]:
-        lines.append(f"  failed episode {item['index']} (seed {item['seed']}): {item['reason']}")
-    if len(failed) > 5:
-        lines.append(f"  ... {len(failed) - 5} more failed episodes in the report")
-    if failed:
-        kwargs = "".join(f" --env-kwarg {k}={json.dumps(v)}"
-                         for k, v in report["env_kwargs"].items())
-        kwargs += "".join(f" --env-module {m}" for m in report["env_modules"])
-        lines.append(f"  replay one: vlb replay {report['env_id']} "
-                     f"--behavior {report['behavior']} --seed {failed[0]['seed']}{kwargs}")
-    if report_path:
-        lines.append(f"  report: {report_path}")
-    return lines
+    try:
+        return CampaignStore(path, readonly=True)
+    except StoreError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def cmd_report(args: argparse.Namespace) -> int:
     from vlb_gym.verify.campaign import report_from_store
-    from vlb_gym.verify.store import CampaignStore, StoreError
+    from vlb_gym.verify.store import StoreError
 
+    store = _read_store(args.store)
     try:
-        store = CampaignStore(args.store, readonly=True)
         report = report_from_store(store)
     except StoreError as exc:
         raise UsageError(str(exc)) from None
-    store.close()
-    stored, planned = report["episodes"], report["planned_episodes"]
-    if args.json:
-        print(json.dumps(report, indent=2))
-        return 0
-    if stored < planned:
-        print(f"incomplete campaign: {stored} of {planned} episodes stored (the bounds below are "
-              f"for the {stored} stored; resume with the same vlb verify command and --store)")
-    print(summary(report))
+    finally:
+        store.close()
+    print(report.to_json() if args.json else report.summary(), end="\n" * (not args.json))
     return 0
 
 
@@ -240,37 +171,126 @@ def cmd_plan(args: argparse.Namespace) -> int:
     return 0
 
 
+def _print_step(number: int, step: dict[str, Any]) -> None:
+    mark = "ok  " if step["certificate"] else "FAIL"
+    node = f"  [node {step['node']}]" if step["node"] else ""
+    extra = f"  ({step['reason']})" if step["reason"] else ""
+    print(f"{number:4d} {mark} {step['primitive']:<10} {step['param']}{node}{extra}")
+
+
+def _replay_config(args: argparse.Namespace):
+    """The campaign config and reset seed an episode is replayed with, and its stored record
+    (None when replaying from a seed on the command line)."""
+    from vlb_gym.verify.campaign import CampaignConfig, episode_seed
+    from vlb_gym.verify.policies import policy_loader
+
+    if args.episode is None:
+        if args.seed is None or not (args.behavior or args.policy):
+            raise UsageError("replay ENV_ID needs --behavior or --policy, and --seed (or "
+                             "replay STORE --episode K)")
+        kwargs = env_kwargs(args.env_kwarg)
+        config = CampaignConfig(args.target, _policy_ref(args), 1, env_kwargs=kwargs,
+                                env_modules=env_modules(args.env_module),
+                                stop_on_failure=not args.keep_going)
+        seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
+        return config, seed, None
+    if args.behavior or args.policy or args.seed is not None or args.index is not None \
+            or args.env_kwarg or args.env_module:
+        raise UsageError("replay STORE --episode K takes the campaign from the store: no "
+                         "--behavior, --policy, --seed, --index, --env-kwarg or --env-module")
+    store = _read_store(args.target)
+    try:
+        plan = store.plan()
+        stored = store.result(args.episode)
+        count = len(store.done())
+    finally:
+        store.close()
+    if plan is None:
+        raise UsageError(f"{args.target}: the store holds no campaign yet")
+    if stored is None:
+        raise UsageError(f"{args.target}: episode {args.episode} is not stored ({count} of "
+                         f"{plan['episodes']} episodes are, indices 0 to {plan['episodes'] - 1})")
+    config = CampaignConfig.from_plan(plan)
+    if args.keep_going:
+        config = dataclasses.replace(config, stop_on_failure=False)
+    loader = policy_loader(config.policy.kind)
+    return config, stored.seed, (stored, plan["content_sha256"], loader)
+
+
 def cmd_replay(args: argparse.Namespace) -> int:
-    from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed
+    from vlb_gym.verify.campaign import build
     from vlb_gym.verify.episode import run_episode
 
-    kwargs = env_kwargs(args.env_kwarg)
-    modules = env_modules(args.env_module)
-    check_env(args.env_id, kwargs, modules)
-    seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
-    config = CampaignConfig(args.env_id, args.behavior, 1, env_kwargs=kwargs, env_modules=modules)
-    env, policy = build(config)
-    result = run_episode(env, policy, seed, stop_on_failure=not args.keep_going)
-    for number, info in enumerate(env.history, 1):
-        mark = "ok " if info["certificate"] else "FAIL"
-        extra = f"  ({info['reason']})" if "reason" in info else ""
-        print(f"{number:4d} {mark} {info['primitive']:<10} {info['param']}{extra}")
+    config, seed, stored = _replay_config(args)
+    if args.render:
+        check_output(args.render, [], True, "--render")
+    try:
+        env, policy = build(config, "rgb_array" if args.render else None)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    if stored is not None:
+        record, digest, loader = stored
+        now = loader.content(config.policy, policy)["sha256"]
+        if now != digest:
+            raise UsageError(f"{config.policy.ref} changed since the campaign (content sha256 "
+                             f"{now[:12]}..., the store's {digest[:12]}...): the episode cannot "
+                             "be replayed")
+    frames: list[np.ndarray] = []
+    if args.render:
+        env.unwrapped.film(frames.append)
+    result = run_episode(env, policy, seed, args.episode or 0, config.stop_on_failure)
+    env.unwrapped.film(None)
+    for number, step in enumerate(result.steps, 1):
+        _print_step(number, step)
     print(f"rho_B = {result.rho:+d}, finished={result.finished}, primitives={result.primitives}"
           + (f", reason: {result.reason}" if result.reason else ""))
-    return 0
+    if args.render:
+        written = write_gif(Path(args.render), frames, env.metadata["render_fps"], args.fps)
+        print(f"wrote {written} frames to {args.render}")
+    env.close()
+    if stored is None:
+        return 0
+    record = stored[0]
+    if args.keep_going or result.same_outcome(record):
+        print(f"episode {record.index} (seed {seed}) reproduces the stored record"
+              if not args.keep_going else "--keep-going: not compared with the stored record")
+        return 0
+    differ = [k for k, v in result.to_dict().items()
+              if k not in ("seconds", "error") and record.to_dict()[k] != v]
+    print(f"vlb replay: episode {record.index} does NOT reproduce the stored record (differs "
+          f"in: {', '.join(differ)}); was the env or a package upgraded? versions then: "
+          f"see 'vlb report {args.target} --json'", file=sys.stderr)
+    return 1
+
+
+def write_gif(out: Path, frames: list[np.ndarray], render_fps: float, fps: int) -> int:
+    """``frames`` (thinned to ``fps``, the last one kept) as an animated GIF at ``out``,
+    written atomically; the number of frames written."""
+    from PIL import Image
+
+    stride = max(1, round(render_fps / fps))
+    frames = frames[::stride] + frames[-1:]  # the last state too, whatever the stride
+    images = [Image.fromarray(frame) for frame in frames]
+    gif = io.BytesIO()
+    images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],
+                   duration=int(1000 / fps), loop=0)
+    write_atomic(out, gif.getvalue())
+    return len(images)
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from PIL import Image
-
-    from vlb_gym.core.library import load_behavior
+    from vlb_gym.verify.campaign import CampaignConfig, build
     from vlb_gym.verify.episode import run_episode
+    from vlb_gym.verify.policies import policy_loader
 
-    kwargs = env_kwargs(args.env_kwarg)
-    check_env(args.env_id, {**kwargs, "render_mode": "rgb_array"}, env_modules(args.env_module))
-    env = RobustnessWrapper(gym.make(args.env_id, render_mode="rgb_array", **kwargs))
-    policy = load_behavior(args.behavior, env)
-    out = check_output(args.out, behavior_files(policy.behavior), True, "--out")
+    config = CampaignConfig(args.env_id, args.behavior, 1, env_kwargs=env_kwargs(args.env_kwarg),
+                            env_modules=env_modules(args.env_module))
+    try:
+        env, policy = build(config, "rgb_array")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    loader = policy_loader(config.policy.kind)
+    out = check_output(args.out, loader.files(config.policy, policy), True, "--out")
     frames: list[np.ndarray] = []
     env.unwrapped.film(frames.append)  # after reset, after each primitive, and during motion
 
@@ -282,14 +302,8 @@ def cmd_render(args: argparse.Namespace) -> int:
 
     result = run_episode(env, policy, args.seed, stop_on_failure=False, on_step=on_step)
     env.unwrapped.film(None)
-    stride = max(1, round(env.metadata["render_fps"] / args.fps))
-    frames = frames[::stride] + frames[-1:]  # the last state too, whatever the stride
-    images = [Image.fromarray(frame) for frame in frames]
-    gif = io.BytesIO()
-    images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],
-                   duration=int(1000 / args.fps), loop=0)
-    write_atomic(out, gif.getvalue())
-    print(f"rho_B = {result.rho:+d}; wrote {len(images)} frames to {out}")
+    written = write_gif(out, frames, env.metadata["render_fps"], args.fps)
+    print(f"rho_B = {result.rho:+d}; wrote {written} frames to {out}")
     env.close()
     return 0
 
@@ -339,6 +353,12 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     v.add_argument("--store", metavar="PATH",
                    help="keep every episode in this SQLite store as it finishes; an existing "
                    "store of the same campaign is resumed (episodes stored are not run again)")
+    v.add_argument("--backend", choices=["serial", "process", "ray"], default="process",
+                   help="where episodes run: this process, worker processes on this machine, or "
+                   "Ray tasks (extra 'ray'; a local instance, or --ray-address); results are "
+                   "identical whatever the backend")
+    v.add_argument("--ray-address", metavar="ADDRESS",
+                   help="with --backend ray: an existing cluster, e.g. ray://head:10001 or auto")
     v.add_argument("--keep-going", action="store_true",
                    help="run each episode to its end even after a certificate failed")
     v.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -365,16 +385,31 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_plan)
 
     r = sub.add_parser("replay", help="re-run one episode step by step",
-                       description="Re-run one episode from its reset seed (as listed in a "
-                       "report's failed_episodes) and print every primitive with its certificate.")
-    r.add_argument("env_id", metavar="ENV_ID", help="e.g. VLB-GridExplore-v0")
-    r.add_argument("--behavior", required=True, metavar="NAME_OR_FILE",
-                   help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
-    r.add_argument("--seed", required=True, type=count(0),
+                       description="Re-run one episode and print every primitive with its "
+                       "certificate. 'vlb replay STORE --episode K' takes episode K of a campaign "
+                       "kept with --store (policy, env, seed, all from the store) and checks that "
+                       "it reproduces the stored record (exit code 1 if not); 'vlb replay ENV_ID "
+                       "--behavior B --seed S' replays from a reset seed (as listed in a "
+                       "report's failed_episodes).")
+    r.add_argument("target", metavar="STORE_OR_ENV_ID",
+                   help="a campaign store (with --episode) or an env id, e.g. VLB-GridExplore-v0")
+    r.add_argument("--episode", type=count(0), metavar="K",
+                   help="the episode of the campaign in STORE to replay")
+    chosen = r.add_mutually_exclusive_group()
+    chosen.add_argument("--behavior", metavar="NAME_OR_FILE",
+                        help="a behavior name (see 'vlb behaviors') or a behavior JSON file")
+    chosen.add_argument("--policy", metavar="AGENT.zip",
+                        help="a trained agent (a Stable-Baselines3 zip with AGENT.json beside "
+                        "it); loading it runs code from the file: load only agents you trust")
+    r.add_argument("--seed", type=count(0),
                    help="the episode's reset seed, or the campaign seed with --index")
     r.add_argument("--index", type=count(0), help="episode index within campaign --seed")
     r.add_argument("--keep-going", action="store_true",
                    help="continue after the first failed certificate")
+    r.add_argument("--render", metavar="FILE.gif",
+                   help="also film the episode into this animated GIF (replaced if it exists)")
+    r.add_argument("--fps", type=count(1), default=10,
+                   help="frames per second of the --render animation")
     add_env_kwarg(r)
     r.set_defaults(func=cmd_replay)
 

@@ -7,6 +7,7 @@ Names resolve to a shipped behavior first, then to the user's library directory
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import re
@@ -39,7 +40,8 @@ def shipped_behaviors() -> list[str]:
                   if p.name.endswith(".json"))
 
 
-def _is_path(ref: str) -> bool:
+def is_path(ref: str) -> bool:
+    """Whether a behavior reference names a file rather than a library behavior."""
     return ref.endswith(".json") or "/" in ref or "\\" in ref
 
 
@@ -72,7 +74,7 @@ class BehaviorLibrary:
     def resolve(self, ref: str, base_dir: Path | None = None
                 ) -> tuple[BehaviorSpec, str, Path | None]:
         """Load ``ref`` (a name or a path, relative to ``base_dir`` if given) as a spec."""
-        if _is_path(ref):
+        if is_path(ref):
             return self._read_path(ref, base_dir)
         return self.resolve_name(ref)
 
@@ -156,3 +158,44 @@ def load_behavior(ref: str, env: gym.Env, library: BehaviorLibrary | None = None
                   ) -> BehaviorPolicy:
     """A ready-to-run policy for behavior ``ref`` (a name or a path) on ``env``."""
     return BehaviorPolicy(compile_for(ref, env, library), env.unwrapped)
+
+
+def behavior_tree(behavior: CompiledBehavior) -> list[CompiledBehavior]:
+    """A compiled behavior and its sub-behaviors, each once, ordered by source."""
+    seen: dict[str, CompiledBehavior] = {}
+    stack = [behavior]
+    while stack:
+        current = stack.pop()
+        if current.source not in seen:
+            seen[current.source] = current
+            stack.extend(n.child for n in current.nodes.values() if n.child is not None)
+    return [seen[source] for source in sorted(seen)]
+
+
+class BehaviorLoader:
+    """Behavior graphs as the policies of campaigns (policy kind ``behavior``): a name, resolved
+    in ``ref.library`` (default: the user's library), or a JSON file."""
+
+    option = "--behavior"
+
+    def load(self, ref, env: gym.Env) -> BehaviorPolicy:
+        library = BehaviorLibrary(Path(ref.library)) if ref.library else None
+        return load_behavior(ref.ref, env, library)
+
+    def files(self, ref, policy: BehaviorPolicy) -> list[Path]:
+        """The behavior's files and its sub-behaviors' (shipped ones are no file of the user's)."""
+        return [Path(b.source) for b in behavior_tree(policy.behavior)
+                if Path(b.source).is_absolute()]
+
+    def content(self, ref, policy: BehaviorPolicy) -> dict:
+        """A digest of the whole tree of behaviors and their documents, by source."""
+        tree = behavior_tree(policy.behavior)
+        digest = hashlib.sha256()
+        for behavior in tree:
+            digest.update(spec_json(behavior.spec).encode())
+        return {"sha256": digest.hexdigest(),
+                "behaviors": {b.source: b.spec.model_dump(by_alias=True, exclude_defaults=True)
+                              for b in tree}}
+
+    def trained_env(self, ref) -> None:
+        return None

@@ -41,7 +41,8 @@ class _Frame:
 class BehaviorPolicy:
     """A compiled behavior acting as a policy on one environment.
 
-    ``predict(obs)`` returns ``(action, None)``; once the behavior has finished it returns
+    ``predict(obs)`` returns ``(action, node)``, ``node`` the id of the node that chose the
+    action (``sub-behavior/node`` in a sub-behavior); once the behavior has finished it returns
     ``(None, None)`` and :attr:`finished` is True. A :class:`BehaviorRuntimeError` means the
     behavior itself failed (stuck in a non-terminal node, an expression raised, a parameter outside
     the primitive's space).
@@ -67,8 +68,9 @@ class BehaviorPolicy:
         self.trace: list[tuple[str, str]] = []  # (behavior, node) of every primitive chosen
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
-                deterministic: bool = True) -> tuple[np.ndarray | None, None]:
-        """The next action for ``observation``, or None once the behavior has finished."""
+                deterministic: bool = True) -> tuple[np.ndarray | None, str | None]:
+        """The next action for ``observation`` and the node that chose it, or ``(None, None)``
+        once the behavior has finished."""
         if episode_start is not None and np.any(episode_start):
             self.reset()
         if self.finished:
@@ -76,8 +78,13 @@ class BehaviorPolicy:
         self._helpers.bind(observation)
         if not self._started:
             self._started = True
-            return self._enter_behavior(self.behavior), None
-        return self._advance(), None
+            action = self._enter_behavior(self.behavior)
+        else:
+            action = self._advance()
+        if action is None:
+            return None, None
+        behavior, node = self.trace[-1]
+        return action, node if behavior == self.behavior.name else f"{behavior}/{node}"
 
     def _run(self, expr: Expression, frame: _Frame) -> Any:
         try:

@@ -5,19 +5,21 @@ from __future__ import annotations
 import time
 import traceback
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any, Protocol
 
 import numpy as np
 
 from vlb_gym.core.runtime import failure_cause
-from vlb_gym.wrappers import RobustnessWrapper
+from vlb_gym.wrappers.robustness import RobustnessWrapper, certificate_cause
 
 
 class Policy(Protocol):
-    """What campaigns run: a behavior graph or (later) an adapted RL agent.
+    """What campaigns run: a behavior graph or a trained agent.
 
-    ``predict`` returns ``(action, state)``; an action of None means the policy has finished.
+    ``predict`` returns ``(action, state)``; an action of None means the policy has finished. A
+    behavior graph's state is the node that chose the action (a string, recorded with the step);
+    an agent's is its recurrent state or None.
     """
 
     def reset(self) -> None: ...
@@ -26,9 +28,18 @@ class Policy(Protocol):
                 deterministic: bool = True) -> tuple[np.ndarray | None, Any]: ...
 
 
+STEP_KEYS = ("primitive", "node", "param", "certificate", "reason", "cause")
+
+
 @dataclass(frozen=True)
 class EpisodeResult:
-    """One episode's outcome: rho_B and enough to replay it (``seed``)."""
+    """One episode's record, the same from the runner to the store, the JSONL export and the
+    report: rho_B, how it came about, and enough to replay it (``seed``).
+
+    ``steps`` holds one dict per primitive run, with :data:`STEP_KEYS` (``reason`` and ``cause``
+    are None where the certificate held); ``start`` is the env's ``reset`` info (a summary of
+    the sampled start); ``error`` the traceback when the policy or the env raised.
+    """
 
     index: int
     seed: int
@@ -39,13 +50,54 @@ class EpisodeResult:
     reason: str | None
     seconds: float
     cause: str | None = None  # the failure's class, for grouping (see failure_cause)
+    steps: tuple[dict[str, Any], ...] = ()
+    start: dict[str, Any] = field(default_factory=dict)
+    error: str | None = None
 
     @property
     def success(self) -> bool:
         return self.rho > 0
 
     def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        record = asdict(self)
+        record["steps"] = list(self.steps)
+        return record
+
+    @classmethod
+    def from_dict(cls, record: dict[str, Any]) -> EpisodeResult:
+        """The result a :meth:`to_dict` record (or its JSON) holds; unknown keys are ignored."""
+        known = {k: v for k, v in record.items() if k in _FIELDS}
+        known["steps"] = tuple(known.get("steps", ()))
+        return cls(**known)
+
+    def same_outcome(self, other: EpisodeResult) -> bool:
+        """Whether ``other`` is this episode again: everything but the wall time and the
+        traceback's file paths."""
+        ignore = {"seconds", "error"}
+        mine, theirs = self.to_dict(), other.to_dict()
+        return ({k: v for k, v in mine.items() if k not in ignore}
+                == {k: v for k, v in theirs.items() if k not in ignore}
+                and (self.error is None) == (other.error is None))
+
+
+def _plain(value: Any) -> Any:
+    """``value`` as plain JSON data (numpy scalars and arrays, tuples -> lists)."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def step_record(info: dict[str, Any], node: str | None) -> dict[str, Any]:
+    """The stored record of one step's ``info``."""
+    held = bool(info["certificate"])
+    return {"primitive": info["primitive"], "node": node, "param": _plain(info["param"]),
+            "certificate": held,
+            "reason": None if held else str(info.get("reason", "certificate failed")),
+            "cause": None if held else certificate_cause(info)}
 
 
 def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 0,
@@ -59,23 +111,29 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     reset and with every step's info after the step.
     """
     started = time.perf_counter()
+    steps: list[dict[str, Any]] = []
+    start: dict[str, Any] = {}
+    error = None
     try:
-        obs, _ = env.reset(seed=seed)
+        obs, reset_info = env.reset(seed=seed)
+        start = _plain(reset_info)
         policy.reset()
         if on_step is not None:
             on_step(None)
         while env.summary is None:
-            action, _ = policy.predict(obs)
+            action, state = policy.predict(obs)
             if action is None:
                 env.end(finished=True)
                 break
             obs, _, _, _, info = env.step(action)
+            steps.append(step_record(info, state if isinstance(state, str) else None))
             if on_step is not None:
                 on_step(info)
             if stop_on_failure and env.failed:
                 env.end(finished=False)
     except Exception as exc:  # an episode's failure, never the campaign's end
         frame = traceback.extract_tb(exc.__traceback__)[-1]
+        error = "".join(traceback.format_exception(exc))[-_MAX_TRACEBACK:]
         env.end(finished=False, reason=f"{type(exc).__name__}: {exc} "
                                        f"({frame.filename.rsplit('/', 1)[-1]}:{frame.lineno})",
                 cause=failure_cause(exc))
@@ -83,5 +141,9 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     return EpisodeResult(index, int(seed), summary["rho_B"], summary["finished"],
                          summary["primitives"], summary["failed_certificates"],
                          summary["failure_reason"], time.perf_counter() - started,
-                         summary["failure_cause"])
+                         summary["failure_cause"], tuple(steps), start, error)
+
+
+_MAX_TRACEBACK = 8000  # characters of a traceback kept (its end: where it was raised)
+_FIELDS = {f.name for f in fields(EpisodeResult)}
 

@@ -14,14 +14,12 @@ import fcntl
 import json
 import os
 import sqlite3
-from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
 from .episode import EpisodeResult
 
 APPLICATION_ID = 0x564C4231  # "VLB1", in the SQLite header: marks the file as a vlb-gym store
-_FIELDS = [f.name for f in fields(EpisodeResult)]
 
 
 class StoreError(ValueError):
@@ -109,10 +107,14 @@ class CampaignStore:
     def add(self, result: EpisodeResult) -> None:
         """Store one finished episode (its own transaction: durable once this returns)."""
         self.db.execute("INSERT INTO episodes (idx, record) VALUES (?, ?)",
-                        (result.index, json.dumps(result.to_dict())))
+                        (result.index, json.dumps(result.to_dict(), separators=(",", ":"))))
 
     def results(self) -> list[EpisodeResult]:
         """The stored episodes, in index order."""
         rows = self.db.execute("SELECT record FROM episodes ORDER BY idx")
-        return [EpisodeResult(**{k: v for k, v in json.loads(row[0]).items() if k in _FIELDS})
-                for row in rows]
+        return [EpisodeResult.from_dict(json.loads(row[0])) for row in rows]
+
+    def result(self, index: int) -> EpisodeResult | None:
+        """Stored episode ``index``, if it is stored."""
+        row = self.db.execute("SELECT record FROM episodes WHERE idx = ?", (index,)).fetchone()
+        return None if row is None else EpisodeResult.from_dict(json.loads(row[0]))

@@ -1,0 +1,76 @@
+"""Policy references: what a campaign verifies, named by a kind and a reference, and loaded by the
+package that owns the kind.
+
+A loader is registered under its kind, in process with :func:`register_policy_loader` or by an
+installed package through the ``vlb_gym.policies`` entry-point group (vlb-gym registers
+``behavior``, behavior graphs, from its core, and ``sb3``, trained Stable-Baselines3 agents,
+from its baselines).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib.metadata import entry_points
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Protocol
+
+if TYPE_CHECKING:
+    import gymnasium as gym
+
+    from .episode import Policy
+
+ENTRY_POINT_GROUP = "vlb_gym.policies"
+
+
+@dataclass(frozen=True)
+class PolicyRef:
+    """A policy to verify: ``kind`` (``"behavior"``, ``"sb3"`` or a registered one) and ``ref``
+    (a behavior name or file, an agent's zip). ``library`` is the behavior library directory that
+    behavior names resolve in (default: the user's, see :mod:`vlb_gym.core.library`)."""
+
+    kind: str
+    ref: str
+    library: str | None = None
+
+    def __str__(self) -> str:
+        return self.ref
+
+
+class PolicyLoader(Protocol):
+    """What a kind of policy supplies to campaigns."""
+
+    #: the ``vlb verify``/``vlb replay`` option that names a policy of this kind
+    option: str
+
+    def load(self, ref: PolicyRef, env: gym.Env) -> Policy:
+        """The policy, ready to run on ``env`` (checked: a bad reference raises ValueError)."""
+
+    def files(self, ref: PolicyRef, policy: Policy) -> list[Path]:
+        """The user's files the policy was read from (outputs must never overwrite them)."""
+
+    def content(self, ref: PolicyRef, policy: Policy) -> dict[str, Any]:
+        """What the campaign plan records of the policy: ``sha256`` (of everything that defines
+        it) and anything a report draws from (a behavior's ``behaviors``: its specs)."""
+
+    def trained_env(self, ref: PolicyRef) -> tuple[str, dict[str, Any]] | None:
+        """The env id and kwargs the policy was made for, where it records them."""
+
+
+_LOADERS: dict[str, PolicyLoader] = {}
+
+
+def register_policy_loader(kind: str, loader: PolicyLoader) -> None:
+    """Make ``kind`` loadable in this process (before the entry points of installed packages)."""
+    _LOADERS[kind] = loader
+
+
+def policy_loader(kind: str) -> PolicyLoader:
+    """The loader of ``kind``; ValueError naming the known kinds if there is none."""
+    if kind not in _LOADERS:
+        found = entry_points(group=ENTRY_POINT_GROUP, name=kind)
+        if not found:
+            known = sorted({*_LOADERS, *entry_points(group=ENTRY_POINT_GROUP).names})
+            raise ValueError(f"unknown policy kind {kind!r} (known: {', '.join(known)})")
+        loader = next(iter(found)).load()
+        _LOADERS[kind] = loader() if isinstance(loader, type) else loader
+    return _LOADERS[kind]
