@@ -51,6 +51,20 @@ def chunk_size(count: int, workers: int) -> int:
     return max(1, min(64, count // (workers * 16)))
 
 
+def chunks(indices: list[int], workers: int) -> collections.deque[list[int]]:
+    """``indices`` cut into tasks of :func:`chunk_size`, shrinking towards the end (at most an
+    eighth of what is left per worker, down to one index) so that workers finish together."""
+    size = chunk_size(len(indices), workers)
+    out: collections.deque[list[int]] = collections.deque()
+    start = 0
+    while start < len(indices):
+        left = len(indices) - start
+        step = max(1, min(size, -(-left // (4 * workers))))
+        out.append(indices[start:start + step])
+        start += step
+    return out
+
+
 def check_main_guard() -> None:
     """Raise :class:`RuntimeError` if this process is a multiprocessing worker still importing
     the main script (a script without an ``if __name__ == '__main__':`` guard that starts a
@@ -196,8 +210,7 @@ def _process(setup: Callable[[], Callable[[int], T]], indices: list[int], worker
     context = _context()
     if preload and context.get_start_method() == "forkserver":
         context.set_forkserver_preload(list(preload))
-    size = chunk_size(len(indices), workers)
-    todo = collections.deque(indices[k:k + size] for k in range(0, len(indices), size))
+    todo = chunks(indices, workers)
     deaths: collections.Counter[int] = collections.Counter()
     idle_deaths = 0  # deaths in a row outside any run (during setup, or killed while idle)
     remaining = len(indices)
@@ -339,8 +352,7 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
         started = True
     actor_class = ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_RayRunner)
     setup_ref = ray.put(setup)
-    size = chunk_size(len(indices), workers)
-    todo = collections.deque(indices[k:k + size] for k in range(0, len(indices), size))
+    todo = chunks(indices, workers)
     deaths: collections.Counter[int] = collections.Counter()
     actors: dict[Any, collections.deque] = {}  # actor -> its (ref, chunk)s, oldest first
     owner: dict[Any, Any] = {}  # ref -> actor
