@@ -234,5 +234,11 @@ def test_real_campaign_ray_matches_serial(ray_instance, serial_campaign):
     assert campaign_records("ray", 2) == serial_campaign
 
 
+def test_ray_missing_says_what_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "ray", None)
+    with pytest.raises(ImportError, match=r"install vlb-gym\[ray\]"):
+        next(run_indices(tasks.squares, range(3), backend="ray"))
+
+
 def test_backends_listed():
     assert BACKENDS == ("serial", "process", "ray")

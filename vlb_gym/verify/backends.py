@@ -19,6 +19,7 @@ import multiprocessing.connection
 import os
 import pickle
 import signal
+import sys
 import tempfile
 import traceback
 from collections.abc import Callable, Iterator, Sequence
@@ -71,7 +72,7 @@ def check_main_guard() -> None:
     campaign at module level); that worker's parent gets the same error."""
     if not getattr(mp.current_process(), "_inheriting", False):
         return
-    main = getattr(__import__("sys").modules.get("__mp_main__"), "__file__", None)
+    main = getattr(sys.modules.get("__mp_main__"), "__file__", None)
     message = GUARD_MESSAGE.format(main=main or "the main module")
     name = mp.current_process().name
     if name.startswith(_WORKER_NAME):  # one of ours: tell the parent why this worker dies
