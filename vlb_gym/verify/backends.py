@@ -1,42 +1,422 @@
-"""Where a campaign's episodes run (placeholder until the backends branch lands)."""
+"""Where a campaign's episodes run: in this process, in worker processes, or on Ray actors.
+
+:func:`run_indices` knows nothing of episodes: ``setup`` is a picklable callable that every
+worker calls once to build its runner, and ``runner(i)`` is computed for every index, each
+result yielded exactly once, so results do not depend on the backend or the worker count.
+
+Worker processes that die mid-task (SIGKILL, the out-of-memory killer) are replaced and their
+unfinished work runs again on the replacement; an index whose run kills its worker
+``max_deaths`` times raises :class:`RuntimeError` naming it. Work goes out in chunks (a small
+list of indices per message) with a bounded number in flight.
+"""
 
 from __future__ import annotations
 
+import collections
+import logging
 import multiprocessing as mp
+import multiprocessing.connection
+import os
+import pickle
 import signal
+import sys
+import tempfile
+import traceback
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TypeVar
 
 T = TypeVar("T")
-BACKENDS = ("serial", "process")
-_RUNNER: Any = None
+
+BACKENDS = ("serial", "process", "ray")
+
+MAX_DEATHS = 3  # an index whose run killed its worker this many times fails the campaign
+_IN_FLIGHT = 2  # chunks queued per worker: the next one is there when the current one ends
+_WORKER_NAME = "vlb-worker:"  # process name prefix; the rest is the guard-report file
+
+GUARD_MESSAGE = (
+    "a campaign with worker processes was started while {main} was being imported by a worker "
+    "process: the script runs it at module level, so every worker would run it again. A script "
+    "that runs campaigns with workers needs an `if __name__ == '__main__':` guard around that "
+    "code (see the multiprocessing docs, 'Safe importing of main module')")
 
 
-def _init(setup: Callable[[], Callable[[int], Any]]) -> None:
-    global _RUNNER
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        _RUNNER = setup()
-    except Exception as exc:
-        _RUNNER = exc
+class RemoteTraceback(Exception):
+    """The traceback of an exception raised in a worker (set as that exception's cause)."""
+
+    def __str__(self) -> str:
+        return self.args[0] if self.args else ""
 
 
-def _run(index: int) -> Any:
-    if isinstance(_RUNNER, Exception):
-        raise _RUNNER
-    return _RUNNER(index)
+def chunk_size(count: int, workers: int) -> int:
+    """Indices per task: as :class:`multiprocessing.pool.Pool` campaigns always had it."""
+    return max(1, min(64, count // (workers * 16)))
+
+
+def chunks(indices: list[int], workers: int) -> collections.deque[list[int]]:
+    """``indices`` cut into tasks of :func:`chunk_size`, shrinking towards the end (at most an
+    eighth of what is left per worker, down to one index) so that workers finish together."""
+    size = chunk_size(len(indices), workers)
+    out: collections.deque[list[int]] = collections.deque()
+    start = 0
+    while start < len(indices):
+        left = len(indices) - start
+        step = max(1, min(size, -(-left // (4 * workers))))
+        out.append(indices[start:start + step])
+        start += step
+    return out
+
+
+def check_main_guard() -> None:
+    """Raise :class:`RuntimeError` if this process is a multiprocessing worker still importing
+    the main script (a script without an ``if __name__ == '__main__':`` guard that starts a
+    campaign at module level); that worker's parent gets the same error."""
+    if not getattr(mp.current_process(), "_inheriting", False):
+        return
+    main = getattr(sys.modules.get("__mp_main__"), "__file__", None)
+    message = GUARD_MESSAGE.format(main=main or "the main module")
+    name = mp.current_process().name
+    if name.startswith(_WORKER_NAME):  # one of ours: tell the parent why this worker dies
+        try:
+            with open(name[len(_WORKER_NAME):], "w") as report:
+                report.write(message)
+        except OSError:
+            pass
+    raise RuntimeError(message)
 
 
 def run_indices(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], *,
                 backend: str = "process", workers: int = 1, ray_address: str | None = None,
-                preload: Sequence[str] = ()) -> Iterator[T]:
-    if backend == "serial" or workers == 1:
+                preload: Sequence[str] = (), max_deaths: int = MAX_DEATHS) -> Iterator[T]:
+    """Yield ``runner(i)`` for every ``i`` in ``indices`` as they finish (in order for
+    ``serial`` and for one ``process`` worker), where each worker builds ``runner = setup()``
+    once.
+
+    - ``serial``: ``setup()`` and every run in this process.
+    - ``process``: ``workers`` processes from a forkserver (spawn where there is none) that
+      imports ``preload`` once; they ignore SIGINT, so Ctrl-C raises ``KeyboardInterrupt`` in
+      the caller only. A script that uses it needs an ``if __name__ == '__main__':`` guard
+      (without one, a clear :class:`RuntimeError` says so).
+    - ``ray``: ``workers`` Ray actors, on the cluster at ``ray_address`` or (None, with Ray not
+      yet initialised) on a local instance of ``workers`` CPUs started and stopped here; needs
+      the extra ``vlb-gym[ray]``.
+
+    An exception from ``setup`` or from a run is raised here as itself (the worker's traceback
+    as its cause). A worker that dies mid-run is replaced and the run repeated; an index whose
+    run killed ``max_deaths`` workers raises :class:`RuntimeError`. Closing or leaving the
+    generator stops the workers.
+    """
+    if backend not in BACKENDS:
+        raise ValueError(f"backend must be one of {', '.join(BACKENDS)} (got {backend!r})")
+    if not isinstance(workers, int) or isinstance(workers, bool) or workers < 1:
+        raise ValueError(f"workers must be a positive integer (got {workers!r})")
+    if not isinstance(max_deaths, int) or max_deaths < 1:
+        raise ValueError(f"max_deaths must be a positive integer (got {max_deaths!r})")
+    check_main_guard()
+    indices = list(indices)
+    if backend == "serial":
+        return _serial(setup, indices)
+    if backend == "process":
+        return _process(setup, indices, workers, tuple(preload), max_deaths)
+    return _ray(setup, indices, workers, ray_address, max_deaths)
+
+
+def _serial(setup: Callable[[], Callable[[int], T]], indices: list[int]) -> Iterator[T]:
+    runner = setup()
+    for i in indices:
+        yield runner(i)
+
+
+# ---------------------------------------------------------------------------------- processes
+
+
+def _context() -> Any:
+    if "forkserver" in mp.get_all_start_methods():
+        return mp.get_context("forkserver")
+    return mp.get_context("spawn")
+
+
+def _portable(exc: BaseException) -> BaseException:
+    """``exc`` if it pickles, else a RuntimeError that describes it."""
+    try:
+        pickle.loads(pickle.dumps(exc))
+        return exc
+    except Exception:
+        return RuntimeError(f"{type(exc).__qualname__}: {exc} (the exception does not pickle)")
+
+
+def _worker_main(conn: Any, current: Any, setup: Callable[[], Callable[[int], Any]]) -> None:
+    """A worker process: build the runner, then run the chunks that arrive until None.
+
+    Messages to the parent: ``("started",)``, then ``("ok", results)`` per chunk, or
+    ``("error", exception, traceback text)`` (after which the parent stops everything).
+    ``current`` holds the index being run (-1 between chunks): a dead worker's culprit.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is for the parent, which stops us
+    conn.send(("started",))
+    try:
         runner = setup()
-        for i in indices:
-            yield runner(i)
+    except Exception as exc:
+        conn.send(("error", _portable(exc), traceback.format_exc()))
         return
-    chunk = max(1, min(64, len(indices) // (workers * 16)))
-    context = mp.get_context("forkserver")
-    context.set_forkserver_preload(list(preload))
-    with context.Pool(workers, initializer=_init, initargs=(setup,)) as pool:
-        yield from pool.imap_unordered(_run, indices, chunksize=chunk)
+    while True:
+        chunk = conn.recv()
+        if chunk is None:
+            return
+        try:
+            results = []
+            for i in chunk:
+                current.value = i
+                results.append(runner(i))
+            current.value = -1
+            conn.send(("ok", results))
+        except Exception as exc:
+            conn.send(("error", _portable(exc), traceback.format_exc()))
+            return
+
+
+class _Worker:
+    """The parent's handle on one worker process and the chunks sent to it (oldest first)."""
+
+    def __init__(self, context: Any, setup: Callable[[], Any], report: str) -> None:
+        self.conn, child = context.Pipe()
+        self.current = context.RawValue("q", -1)
+        self.report = report
+        self.process = context.Process(target=_worker_main, args=(child, self.current, setup),
+                                       name=_WORKER_NAME + report, daemon=True)
+        self.process.start()
+        child.close()
+        self.started = False
+        self.chunks: collections.deque[list[int]] = collections.deque()
+
+    def stop(self, wait: float) -> None:
+        """Ask the worker to finish (wait > 0) or terminate it now; reap it either way."""
+        if wait > 0 and self.process.is_alive():
+            try:
+                self.conn.send(None)
+            except OSError:
+                pass
+            self.process.join(wait)
+        if self.process.is_alive():
+            self.process.terminate()
+            self.process.join(2)
+        if self.process.is_alive():
+            self.process.kill()
+            self.process.join()
+        self.conn.close()
+        self.process.close()
+
+
+def _process(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: int,
+             preload: tuple[str, ...], max_deaths: int) -> Iterator[T]:
+    context = _context()
+    if preload and context.get_start_method() == "forkserver":
+        context.set_forkserver_preload(list(preload))
+    todo = chunks(indices, workers)
+    deaths: collections.Counter[int] = collections.Counter()
+    idle_deaths = 0  # deaths in a row outside any run (during setup, or killed while idle)
+    remaining = len(indices)
+    folder = tempfile.mkdtemp(prefix="vlb-workers-")
+    pool: list[_Worker] = []
+    finished = False
+
+    count = iter(range(1 << 62))
+
+    def start() -> _Worker:
+        worker = _Worker(context, setup, os.path.join(folder, f"{next(count)}.guard"))
+        pool.append(worker)
+        return worker
+
+    def feed(worker: _Worker) -> None:
+        while todo and len(worker.chunks) < _IN_FLIGHT:
+            chunk = todo.popleft()
+            worker.conn.send(chunk)
+            worker.chunks.append(chunk)
+
+    def died(worker: _Worker) -> None:
+        nonlocal idle_deaths
+        worker.process.join(5)
+        code = worker.process.exitcode
+        culprit = worker.current.value if worker.chunks else -1
+        how = (f"signal {signal.Signals(-code).name}" if code is not None and code < 0
+               else f"exit code {code}")
+        if not worker.started:
+            message = None
+            if os.path.exists(worker.report):
+                with open(worker.report) as report:
+                    message = report.read()
+            if message:
+                raise RuntimeError(message)
+            if code is not None and code > 0:
+                raise RuntimeError(
+                    f"a worker process failed to start ({how}; its traceback is on stderr): "
+                    "the setup callable must be importable by name in a fresh interpreter, and "
+                    "a script that runs campaigns with workers needs an `if __name__ == "
+                    "'__main__':` guard")
+        todo.extendleft(reversed(worker.chunks))  # first in line again, in their order
+        worker.chunks.clear()
+        pool.remove(worker)
+        worker.stop(0)
+        if culprit >= 0:
+            idle_deaths = 0
+            deaths[culprit] += 1
+            if deaths[culprit] >= max_deaths:
+                raise RuntimeError(
+                    f"index {culprit}: its run killed the worker process {deaths[culprit]} "
+                    f"times (last: {how}), so it is not tried again; the runner kills or "
+                    "crashes its process (out of memory, a crash in native code, os._exit)")
+        else:
+            idle_deaths += 1
+            if idle_deaths >= max_deaths * max(workers, 2):
+                raise RuntimeError(
+                    f"worker processes keep dying outside any run ({idle_deaths} in a row, "
+                    f"last: {how}): during setup, or killed from outside")
+        feed(start())
+
+    try:
+        for _ in range(min(workers, len(todo))):
+            feed(start())
+        while remaining:
+            ready = mp.connection.wait([w.conn for w in pool] + [w.process.sentinel
+                                                                  for w in pool])
+            for worker in list(pool):
+                if worker.conn not in ready and worker.process.sentinel not in ready:
+                    continue
+                alive = True
+                while alive and worker.conn.poll():
+                    try:
+                        message = worker.conn.recv()
+                    except (EOFError, OSError):
+                        alive = False
+                        break
+                    if message[0] == "started":
+                        worker.started = True
+                    elif message[0] == "error":
+                        _, exc, text = message
+                        raise exc from RemoteTraceback(text)
+                    else:
+                        chunk = worker.chunks.popleft()
+                        remaining -= len(chunk)
+                        idle_deaths = 0
+                        feed(worker)
+                        yield from message[1]
+                if not alive or worker.process.sentinel in ready:
+                    died(worker)
+        finished = True
+    finally:
+        for worker in pool:
+            worker.stop(5 if finished else 0)
+        for name in os.listdir(folder):
+            os.unlink(os.path.join(folder, name))
+        os.rmdir(folder)
+
+
+# ---------------------------------------------------------------------------------------- ray
+
+
+class _RayRunner:
+    """A Ray actor's state: the runner (or the exception ``setup`` raised)."""
+
+    def __init__(self, setup: Callable[[], Callable[[int], Any]]) -> None:
+        self.runner: Callable[[int], Any] | None = None
+        self.error: Exception | None = None
+        try:
+            self.runner = setup()
+        except Exception as exc:  # raised from the first chunk, as itself
+            self.error = exc
+
+    def run(self, chunk: list[int]) -> list[Any]:
+        if self.error is not None:
+            raise self.error
+        return [self.runner(i) for i in chunk]
+
+
+def _import_ray() -> Any:
+    try:
+        import ray
+    except ImportError as exc:
+        raise ImportError("the ray backend needs Ray: install vlb-gym[ray]") from exc
+    return ray
+
+
+def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: int,
+         address: str | None, max_deaths: int) -> Iterator[T]:
+    ray = _import_ray()
+    from ray.exceptions import RayActorError, RayTaskError, WorkerCrashedError
+
+    started = False
+    if not ray.is_initialized():
+        options: dict[str, Any] = {"address": address, "include_dashboard": False,
+                                   "log_to_driver": False, "logging_level": logging.ERROR}
+        if address is None:
+            options["num_cpus"] = workers
+        ray.init(**options)
+        started = True
+    actor_class = ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_RayRunner)
+    setup_ref = ray.put(setup)
+    todo = chunks(indices, workers)
+    deaths: collections.Counter[int] = collections.Counter()
+    actors: dict[Any, collections.deque] = {}  # actor -> its (ref, chunk)s, oldest first
+    owner: dict[Any, Any] = {}  # ref -> actor
+    remaining = len(indices)
+
+    def feed(actor: Any) -> None:
+        while todo and len(actors[actor]) < _IN_FLIGHT:
+            chunk = todo.popleft()
+            ref = actor.run.remote(chunk)
+            actors[actor].append((ref, chunk))
+            owner[ref] = actor
+
+    def start() -> None:
+        actor = actor_class.remote(setup_ref)
+        actors[actor] = collections.deque()
+        feed(actor)
+
+    def died(actor: Any, error: BaseException) -> None:
+        sent = actors.pop(actor)
+        for ref, _ in sent:
+            owner.pop(ref, None)
+        ray.kill(actor, no_restart=True)
+        # the oldest chunk was running: retried index by index to find the culprit; the rest
+        # had not started
+        (_, running), rest = sent[0], [chunk for _, chunk in list(sent)[1:]]
+        todo.extendleft(reversed(rest))
+        if len(running) > 1:
+            todo.extendleft([i] for i in reversed(running))
+        else:
+            deaths[running[0]] += 1
+            if deaths[running[0]] >= max_deaths:
+                raise RuntimeError(
+                    f"index {running[0]}: its run killed the Ray actor's worker process "
+                    f"{deaths[running[0]]} times, so it is not tried again ({error})")
+            todo.appendleft(running)
+        start()
+
+    try:
+        for _ in range(min(workers, len(todo))):
+            start()
+        while remaining:
+            done, _ = ray.wait(list(owner), num_returns=1)
+            for ref in done:
+                actor = owner.get(ref)
+                if actor is None:  # its actor died already
+                    continue
+                try:
+                    results = ray.get(ref)
+                except (RayActorError, WorkerCrashedError) as error:
+                    died(actor, error)
+                    continue
+                except RayTaskError as error:
+                    cause = getattr(error, "cause", None)
+                    if isinstance(cause, BaseException):
+                        raise cause from RemoteTraceback(str(error))
+                    raise
+                del owner[ref]
+                _, chunk = actors[actor].popleft()
+                remaining -= len(chunk)
+                feed(actor)
+                yield from results
+    finally:
+        for actor in actors:
+            ray.kill(actor, no_restart=True)
+        if started:
+            ray.shutdown()

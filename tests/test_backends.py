@@ -1,0 +1,244 @@
+"""vlb_gym.verify.backends: serial, process and Ray backends give each index's result once."""
+
+from __future__ import annotations
+
+import functools
+import os
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+
+from tests import backend_tasks as tasks
+from vlb_gym.verify.backends import BACKENDS, run_indices
+
+ROOT = Path(__file__).resolve().parent.parent
+SQUARES = [(i, i * i) for i in range(200)]
+
+
+def gone(pid: int, within: float = 15.0) -> bool:
+    """Whether process ``pid`` ends (or is a zombie) within ``within`` seconds."""
+    deadline = time.monotonic() + within
+    while time.monotonic() < deadline:
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return True
+        stat = Path(f"/proc/{pid}/stat")
+        try:
+            if stat.read_text().rsplit(")", 1)[1].split()[0] == "Z":  # a zombie: it ended
+                return True
+        except (OSError, IndexError):
+            pass
+        time.sleep(0.1)
+    return False
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="backend"):
+        run_indices(tasks.squares, range(3), backend="threads")
+    with pytest.raises(ValueError, match="workers"):
+        run_indices(tasks.squares, range(3), workers=0)
+
+
+def test_serial_in_order():
+    assert list(run_indices(tasks.squares, range(200), backend="serial")) == SQUARES
+    assert list(run_indices(tasks.squares, [5, 3, 9], backend="serial")) == [
+        (5, 25), (3, 9), (9, 81)]
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_process_each_index_once(workers):
+    results = list(run_indices(tasks.squares, range(200), backend="process", workers=workers))
+    assert sorted(results) == SQUARES
+    if workers == 1:
+        assert results == SQUARES  # one worker: in order
+    assert list(run_indices(tasks.squares, [], backend="process", workers=2)) == []
+    some = [3, 150, 7, 8]
+    assert sorted(run_indices(tasks.squares, some, workers=workers)) == sorted(
+        (i, i * i) for i in some)
+
+
+def test_process_setup_failure_is_raised_as_itself():
+    started = time.monotonic()
+    with pytest.raises(tasks.SetupError, match="no runner today") as info:
+        list(run_indices(tasks.failing_setup, range(1000), backend="process", workers=2))
+    assert time.monotonic() - started < 30
+    assert "failing_setup" in str(info.value.__cause__)  # the worker's traceback
+
+
+def test_process_worker_death_reruns_the_index(tmp_path):
+    marker = tmp_path / "died"
+    setup = functools.partial(tasks.dies_once, str(marker))
+    results = list(run_indices(setup, range(200), backend="process", workers=2))
+    assert marker.exists()  # a worker did die at index 7
+    assert sorted(results) == SQUARES
+
+
+def test_process_worker_death_one_worker_keeps_order(tmp_path):
+    setup = functools.partial(tasks.dies_once, str(tmp_path / "died"))
+    assert list(run_indices(setup, range(50), backend="process", workers=1)) == SQUARES[:50]
+
+
+def test_process_retry_cap_names_the_index():
+    started = time.monotonic()
+    with pytest.raises(RuntimeError, match="index 7: its run killed the worker process 3 times"):
+        list(run_indices(tasks.dies_always, range(20), backend="process", workers=2))
+    assert time.monotonic() - started < 40
+
+
+def test_process_close_stops_workers():
+    stream = run_indices(tasks.slow, range(100), backend="process", workers=2)
+    pids = {next(stream)[1] for _ in range(6)}
+    stream.close()
+    assert pids and all(gone(pid) for pid in pids)
+
+
+def test_process_exception_in_a_run_is_raised_and_stops_workers():
+    stream = run_indices(tasks.slow_then_fail, range(100), backend="process", workers=2)
+    pids = {next(stream)[1] for _ in range(4)}
+    with pytest.raises(tasks.RunError, match="index 30 failed"):
+        for _ in stream:
+            pass
+    assert all(gone(pid) for pid in pids)
+
+
+SCRIPT = """
+from tests import backend_tasks
+from vlb_gym.verify.backends import run_indices
+
+def main():
+    print("results", len(list(run_indices(backend_tasks.squares, range(100), workers=2))))
+
+{call}
+"""
+
+
+@pytest.mark.parametrize("guarded", [False, True])
+def test_script_without_main_guard_fails_fast(tmp_path, guarded):
+    script = tmp_path / "campaign_script.py"
+    call = "if __name__ == '__main__':\n    main()" if guarded else "main()"
+    script.write_text(textwrap.dedent(SCRIPT).format(call=call))
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          timeout=60, env=env, cwd=tmp_path, check=False)
+    if guarded:
+        assert done.returncode == 0, done.stderr
+        assert "results 100" in done.stdout
+    else:
+        assert done.returncode != 0
+        last = done.stderr.strip().splitlines()[-1]
+        assert last.startswith("RuntimeError:") and "__name__ == '__main__'" in last, last
+
+
+def campaign_records(backend: str, workers: int) -> list[dict]:
+    from vlb_gym.verify.campaign import CampaignConfig
+
+    config = CampaignConfig("VLB-GridExplore-v0", "explore_until_goal", 40)
+    results = run_indices(functools.partial(tasks.campaign, config), range(40),
+                          backend=backend, workers=workers)
+    records = sorted((r.to_dict() for r in results), key=lambda r: r["index"])
+    for record in records:
+        del record["seconds"]
+    assert [r["index"] for r in records] == list(range(40))
+    return records
+
+
+@pytest.fixture(scope="module")
+def serial_campaign():
+    return campaign_records("serial", 1)
+
+
+def test_real_campaign_process_matches_serial(serial_campaign):
+    assert campaign_records("process", 2) == serial_campaign
+    assert any(r["rho"] > 0 for r in serial_campaign)
+
+
+# ---------------------------------------------------------------------------------------- ray
+
+
+def test_ray_starts_and_stops_its_own_instance():
+    ray = pytest.importorskip("ray")
+    if ray.is_initialized():
+        pytest.skip("a Ray instance is running in this process")
+    assert sorted(run_indices(tasks.squares, range(20), backend="ray", workers=1)) == (
+        SQUARES[:20])
+    assert not ray.is_initialized()
+
+
+@pytest.fixture(scope="module")
+def ray_instance():
+    """One local Ray instance of 2 CPUs for this module's Ray tests."""
+    ray = pytest.importorskip("ray")
+    import logging
+
+    if not ray.is_initialized():
+        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
+                 logging_level=logging.ERROR)
+    yield ray
+    ray.shutdown()
+
+
+ray_test = [pytest.mark.ray, pytest.mark.xdist_group("ray"), pytest.mark.timeout(120)]
+
+
+def mark_ray(function):
+    for mark in ray_test:
+        function = mark(function)
+    return function
+
+
+@mark_ray
+@pytest.mark.parametrize("workers", [1, 2])
+def test_ray_each_index_once(ray_instance, workers):
+    assert sorted(run_indices(tasks.squares, range(200), backend="ray", workers=workers)) == (
+        SQUARES)
+
+
+@mark_ray
+def test_ray_setup_failure_is_raised_as_itself(ray_instance):
+    started = time.monotonic()
+    with pytest.raises(tasks.SetupError, match="no runner today"):
+        list(run_indices(tasks.failing_setup, range(1000), backend="ray", workers=2))
+    assert time.monotonic() - started < 30
+
+
+@mark_ray
+def test_ray_worker_death_reruns_the_index(ray_instance, tmp_path):
+    marker = tmp_path / "died"
+    setup = functools.partial(tasks.dies_once, str(marker))
+    results = list(run_indices(setup, range(200), backend="ray", workers=2))
+    assert marker.exists()
+    assert sorted(results) == SQUARES
+
+
+@mark_ray
+def test_ray_retry_cap_names_the_index(ray_instance):
+    with pytest.raises(RuntimeError, match="index 7: its run killed"):
+        list(run_indices(tasks.dies_always, range(20), backend="ray", workers=2))
+
+
+@mark_ray
+def test_ray_close_kills_actors(ray_instance):
+    stream = run_indices(tasks.slow, range(100), backend="ray", workers=2)
+    pids = {next(stream)[1] for _ in range(6)}
+    stream.close()
+    assert pids and all(gone(pid) for pid in pids)
+
+
+@mark_ray
+def test_real_campaign_ray_matches_serial(ray_instance, serial_campaign):
+    assert campaign_records("ray", 2) == serial_campaign
+
+
+def test_ray_missing_says_what_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "ray", None)
+    with pytest.raises(ImportError, match=r"install vlb-gym\[ray\]"):
+        next(run_indices(tasks.squares, range(3), backend="ray"))
+
+
+def test_backends_listed():
+    assert BACKENDS == ("serial", "process", "ray")
