@@ -255,3 +255,17 @@ def test_png_encoder_and_frame_thumbnails():
     assert _png_size(encode_png(grey)) == (4, 3)
     with pytest.raises(ValueError):
         encode_png(np.zeros((2, 2, 5)))
+
+
+def test_without_matplotlib_or_graphviz_the_report_says_so(campaign, tmp_path, monkeypatch):
+    import sys
+
+    for name in [m for m in sys.modules if m == "matplotlib" or m.startswith("matplotlib.")]:
+        monkeypatch.setitem(sys.modules, name, None)
+    monkeypatch.setattr(report_graph.shutil, "which", lambda name: None)
+    written = write_report_dir(tmp_path, campaign["report"], campaign["episodes"],
+                               campaign["plan"])
+    text = (tmp_path / "report.md").read_text()
+    assert "no picture (install matplotlib" in text
+    assert floor5(campaign["report"]["lower_bound"]) in text
+    assert {p.name for p in written} == {"report.json", "report.md", "report.html"}

@@ -193,7 +193,7 @@ def failure_blocks(report: dict[str, Any], episodes: list[dict[str, Any]],
         last = steps[-15:]
         blocks += [Heading(3, f"Last steps of failed episode {example.get('index')}"),
                    Table(["step", "node", "primitive", "param", "certificate", "reason"],
-                         [[str(len(steps) - len(last) + i), str(s.get("node") or "-"),
+                         [[str(len(steps) - len(last) + i + 1), str(s.get("node") or "-"),
                            str(s.get("primitive")), Code(short(json.dumps(s.get("param"),
                                                                           default=str), 60)),
                            "held" if s.get("certificate") else "FAILED",
