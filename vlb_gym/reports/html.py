@@ -23,7 +23,7 @@ th { background: #f3f5f8; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 tr:nth-child(even) td { background: #fafafa; }
 code { font-family: ui-monospace, Menlo, Consolas, monospace; font-size: .88em;
-       background: #f3f3f3; padding: 0 .2em; border-radius: 3px; word-break: break-all; }
+       background: #f3f3f3; padding: 0 .2em; border-radius: 3px; overflow-wrap: anywhere; }
 pre { background: #f6f6f6; border: 1px solid #ddd; padding: .6em; overflow-x: auto;
       font-size: .82em; }
 figure { margin: 1em 0; }
