@@ -1,0 +1,141 @@
+"""Which behavior graphs a report draws, and how often each node's certificate failed.
+
+A failed step (``certificate`` false) counts against its ``node``; a step with no node (or,
+for stores written before episodes kept their steps, a failed episode whose cause names a
+primitive) counts against every node running that primitive, and such counts are marked
+approximate. A sub-behavior node totals the nodes of the behavior it names.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import PurePath
+from typing import Any
+
+
+@dataclass
+class NodeStats:
+    """Steps run at a node and how many of their certificates failed."""
+
+    runs: int = 0
+    failed: int = 0
+    approximate: bool = False  # attributed by primitive: the node was not recorded
+
+    def add(self, other: NodeStats) -> None:
+        self.runs += other.runs
+        self.failed += other.failed
+        self.approximate = self.approximate or other.approximate
+
+
+def _stem(ref: str) -> str:
+    return PurePath(ref).stem if ref.endswith(".json") else PurePath(ref).name
+
+
+def resolve(ref: str, specs: Mapping[str, dict[str, Any]]) -> str | None:
+    """The key of ``specs`` that a behavior reference (name or path) names, if any."""
+    if ref in specs:
+        return ref
+    for key, spec in specs.items():
+        if spec.get("name") == ref or _stem(key) == _stem(ref) or spec.get("name") == _stem(ref):
+            return key
+    return None
+
+
+def child_ref(node: Mapping[str, Any]) -> str | None:
+    """The behavior a sub-behavior node names, or None for a primitive node."""
+    ref = node.get("behavior")
+    return ref if isinstance(ref, str) else None
+
+
+def behavior_order(main: str, specs: Mapping[str, dict[str, Any]]) -> list[str]:
+    """Keys of ``specs``: the main behavior first, then its sub-behaviors breadth-first, then any
+    others the plan holds."""
+    first = resolve(main, specs)
+    order: list[str] = []
+    queue = [first] if first is not None else []
+    while queue:
+        key = queue.pop(0)
+        if key in order:
+            continue
+        order.append(key)
+        for node in specs[key].get("nodes", []):
+            ref = child_ref(node)
+            found = resolve(ref, specs) if ref else None
+            if found is not None and found not in order:
+                queue.append(found)
+    return order + sorted(key for key in specs if key not in order)
+
+
+def known_primitives(specs: Mapping[str, dict[str, Any]]) -> set[str]:
+    return {node["primitive"] for spec in specs.values() for node in spec.get("nodes", [])
+            if isinstance(node.get("primitive"), str)}
+
+
+def steps_of(episodes: list[dict[str, Any]], primitives: set[str]) -> list[dict[str, Any]]:
+    """Every recorded step; without any, one failed pseudo-step per failed episode whose cause
+    starts with a known primitive (``"navigate: controller failed"``)."""
+    steps = [step for episode in episodes for step in (episode.get("steps") or [])
+             if isinstance(step, dict)]
+    if steps:
+        return steps
+    pseudo = []
+    for episode in episodes:
+        cause = episode.get("cause") or ""
+        primitive = cause.split(":", 1)[0]
+        if episode.get("rho", 1) < 0 and ":" in cause and primitive in primitives:
+            pseudo.append({"primitive": primitive, "node": None, "certificate": False,
+                           "counted": False})
+    return pseudo
+
+
+def node_stats(specs: Mapping[str, dict[str, Any]], episodes: list[dict[str, Any]]
+               ) -> dict[str, dict[str, NodeStats]]:
+    """``{behavior key: {node id: NodeStats}}`` for every node of every behavior in ``specs``."""
+    by_node: dict[tuple[str, str], NodeStats] = {}
+    by_primitive: dict[str, NodeStats] = {}
+    for step in steps_of(episodes, known_primitives(specs)):
+        primitive, node = str(step.get("primitive")), step.get("node")
+        if node is None:
+            stats = by_primitive.setdefault(primitive, NodeStats(approximate=True))
+        else:
+            stats = by_node.setdefault((str(node), primitive), NodeStats())
+        stats.runs += 1 if step.get("counted", True) else 0
+        stats.failed += step.get("certificate") is False
+
+    result: dict[str, dict[str, NodeStats]] = {}
+
+    def of(key: str, visiting: frozenset[str]) -> dict[str, NodeStats]:
+        if key in result:
+            return result[key]
+        table: dict[str, NodeStats] = {}
+        for node in specs[key].get("nodes", []):
+            node_id, stats = str(node.get("id")), NodeStats()
+            ref = child_ref(node)
+            if ref is not None:
+                child = resolve(ref, specs)
+                if child is not None and child not in visiting:
+                    for sub in of(child, visiting | {child}).values():
+                        stats.add(sub)
+            else:
+                primitive = str(node.get("primitive"))
+                stats.add(by_node.get((node_id, primitive), NodeStats()))
+                stats.add(by_primitive.get(primitive, NodeStats()))
+            table[node_id] = stats
+        result[key] = table
+        return table
+
+    for key in specs:
+        of(key, frozenset({key}))
+    return result
+
+
+def failures_by_primitive(episodes: list[dict[str, Any]]) -> dict[str, NodeStats]:
+    """Steps and failed certificates per primitive (recorded steps only)."""
+    table: dict[str, NodeStats] = {}
+    for episode in episodes:
+        for step in episode.get("steps") or []:
+            stats = table.setdefault(str(step.get("primitive")), NodeStats())
+            stats.runs += 1
+            stats.failed += step.get("certificate") is False
+    return table

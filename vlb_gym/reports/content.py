@@ -1,0 +1,345 @@
+"""What a campaign report says, section by section, as a :class:`~.document.Document`."""
+
+from __future__ import annotations
+
+import json
+import shlex
+from decimal import ROUND_CEILING, Decimal
+from typing import Any
+
+import numpy as np
+
+from vlb_gym.verify import bounds
+
+from . import attribution, graph, plots
+from .document import (Block, Code, Document, Figure, Gallery, Heading, Inline, Paragraph,
+                       Preformatted, Strong, Table)
+from .png import encode_png, pick, thumbnail
+
+MAX_FAILED_ROWS = 25
+MAX_TRACEBACKS = 3
+MAX_FRAMES = 6
+MATPLOTLIB_MISSING = "no picture (install matplotlib, e.g. pip install 'vlb-gym[rl]')"
+
+
+def ceil_str(x: float, digits: int = 5) -> str:
+    """An upper bound in words, rounded up (never below the number)."""
+    return str(Decimal(repr(x)).quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING))
+
+
+def short(text: Any, limit: int) -> str:
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def joined(parts: list[Inline], separator: str = ", ") -> list[Inline]:
+    """``parts`` with ``separator`` between them."""
+    out: list[Inline] = []
+    for part in parts:
+        out += [separator, part] if out else [part]
+    return out
+
+
+def subject(report: dict[str, Any]) -> list[Inline]:
+    """"the behavior NAME" or "the trained agent PATH"."""
+    what = "the trained agent " if report.get("policy") else "the behavior "
+    return [what, Strong(str(report.get("behavior", "?")))]
+
+
+def sequential(report: dict[str, Any]) -> bool:
+    return report.get("mode") == "sequential"
+
+
+def claim_blocks(report: dict[str, Any]) -> list[Block]:
+    """Section 1: the guarantee in words, bounds rounded down."""
+    eps, delta = report["epsilon"], report["delta"]
+    claim, level = bounds.one_minus_str(eps), bounds.one_minus_str(delta)
+    n, k = report["episodes"], report["failures"]
+    where = ["For start/environment pairs drawn from the sampling distribution (",
+             str(report.get("sampling_distribution", "not recorded")), "), "]
+    blocks: list[Block] = [Heading(2, "The claim")]
+    if not sequential(report):
+        conf, low = report["confidence"], report["lower_bound"]
+        blocks += [
+            Paragraph([*where, *subject(report), " succeeds with probability at least ",
+                       Strong(claim), ", with confidence ", Strong(bounds.floor_str(conf)), "."]),
+            Paragraph(["At confidence level ", Strong(level), " (delta = ", f"{delta:g}",
+                       "), its probability of success is at least ", Strong(bounds.floor_str(low)),
+                       f" (one-sided Clopper–Pearson lower bound from N = {n} episodes with "
+                       f"k = {k} failures)."]),
+            Paragraph(["Target confidence ", level, ": ",
+                       Strong("met" if conf >= 1.0 - delta else "not met"),
+                       ". N was fixed before the campaign; bounds are rounded down; the guarantee "
+                       "holds for this sampling distribution only."])]
+    else:
+        decision = str(report.get("decision", "undecided"))
+        low, high = report["lower_bound"], report.get("upper_bound", 1.0)
+        stopped = report.get("stopped_at")
+        stop_words = (f"stopped after {stopped} episodes" if stopped is not None else
+                      f"no decision within the cap of {report.get('max_episodes', n)} episodes")
+        verb = {"certified": [" succeeds with probability at least ", Strong(claim),
+                              ": certified"],
+                "refuted": [" succeeds with probability below ", Strong(claim), ": refuted"]}
+        blocks += [
+            Paragraph([*where, *subject(report),
+                       *verb.get(decision, [" has no certified probability of success at ",
+                                            Strong(claim), ": undecided, nothing is certified"]),
+                       f" at level {level} by an anytime-valid sequential test ({stop_words})."]),
+            Paragraph(["Decision: ", Strong(decision), ". Anytime-valid confidence interval at "
+                       f"level {level}, simultaneously for all n: P[success] in [",
+                       Strong(bounds.floor_str(low)), ", ", Strong(ceil_str(high)),
+                       "]; confidence in the claim: ",
+                       Strong(bounds.floor_str(report["confidence"])), "."]),
+            Paragraph(["Test: ", str(report.get("test", "?")), ". Guarantee: ",
+                       str(report.get("guarantee", "?"))])]
+        fixed = report.get("fixed_n_description") or {}
+        if fixed:
+            blocks.append(Paragraph([
+                "Clopper–Pearson figures of these episodes, for description only: confidence ",
+                bounds.floor_str(fixed.get("confidence", 0.0)), ", lower bound ",
+                bounds.floor_str(fixed.get("lower_bound", 0.0)), ". ",
+                str(fixed.get("note", ""))]))
+    planned = report.get("planned_episodes")
+    if planned is not None and planned != n:
+        blocks.append(Paragraph([Strong("Incomplete campaign: "),
+                                 f"{n} of {planned} planned episodes were stored; the figures "
+                                 "describe those only."]))
+    return blocks
+
+
+def numbers_table(report: dict[str, Any]) -> list[Block]:
+    """Section 2: the numbers."""
+    rate = report.get("episodes_per_second")
+    rows: list[list[Any]] = [
+        ["episodes N", str(report["episodes"])],
+        ["successes", str(report["successes"])],
+        ["failures k", str(report["failures"])],
+        ["eps (claim P[success] >= 1 - eps)", f"{report['epsilon']:g}"],
+        ["confidence in the claim", bounds.floor_str(report["confidence"])],
+        ["delta (level 1 - delta)", f"{report['delta']:g}"],
+        ["lower bound on P[success] at level 1 - delta", bounds.floor_str(report["lower_bound"])],
+    ]
+    if sequential(report):
+        rows += [["upper bound on P[success] (anytime-valid)",
+                  ceil_str(report.get("upper_bound", 1.0))],
+                 ["decision", str(report.get("decision"))],
+                 ["stopped at", str(report.get("stopped_at"))],
+                 ["cap (max episodes)", str(report.get("max_episodes"))]]
+    rows += [
+        ["seed", Code(str(report.get("seed")))],
+        ["wall time (s)", f"{report.get('wall_seconds', 0.0):.2f}"],
+        ["episodes / s", f"{rate:.1f}" if isinstance(rate, (int, float)) else "-"],
+        ["mean primitives per episode", f"{report.get('mean_primitives', 0.0):.2f}"],
+    ]
+    return [Heading(2, "The numbers"), Table(["quantity", "value"], rows, numeric=(1,))]
+
+
+def replay(store_path: str | None, index: int | None) -> Inline:
+    """The command that replays episode ``index`` of the campaign stored at ``store_path``."""
+    if store_path is None or index is None:
+        return "-"
+    return Code(f"vlb replay {shlex.quote(store_path)} --episode {index}")
+
+
+def failure_blocks(report: dict[str, Any], episodes: list[dict[str, Any]],
+                   store_path: str | None) -> list[Block]:
+    """Section 3: failures by cause, the failed episodes, an example's last steps, tracebacks."""
+    blocks: list[Block] = [Heading(2, "Failures by cause")]
+    groups = report.get("failures_by_cause") or []
+    if not groups:
+        return blocks + [Paragraph(["No episode failed."])]
+    failed = [e for e in episodes if e.get("rho", 1) < 0] or report.get("failed_episodes", [])
+    index_of = {e.get("seed"): e.get("index") for e in failed}
+    first_of: dict[str, dict[str, Any]] = {}
+    for episode in failed:
+        first_of.setdefault(episode.get("cause") or "unknown", episode)
+    headers = ["cause", "count", "share", "example seeds", "example reason"]
+    if store_path is not None:
+        headers.append("replay an example")
+    rows = []
+    total = max(report.get("episodes", 1), 1)
+    for group in groups:
+        cause = str(group.get("cause"))
+        seeds = group.get("seeds", [])
+        example = first_of.get(cause, {})
+        index = example.get("index", index_of.get(seeds[0]) if seeds else None)
+        row = [cause, str(group.get("count")), f"{group.get('count', 0) / total:.1%}",
+               joined([Code(str(s)) for s in seeds]),
+               short(example.get("reason") or "", 160)]
+        if store_path is not None:
+            row.append(replay(store_path, index))
+        rows.append(row)
+    blocks.append(Table(headers, rows, numeric=(1, 2)))
+
+    shown = failed[:MAX_FAILED_ROWS]
+    blocks.append(Heading(3, f"Failed episodes ({len(failed)}"
+                             + (f", first {len(shown)} shown)" if len(shown) < len(failed) else ")")))
+    with_start = any("start" in e for e in shown)
+    head = ["episode", "seed", "cause", "reason"] + (["start"] if with_start else [])
+    table = []
+    for episode in shown:
+        row = [str(episode.get("index")), Code(str(episode.get("seed"))),
+               str(episode.get("cause") or "unknown"), short(episode.get("reason") or "", 200)]
+        if with_start:
+            start = episode.get("start")
+            row.append(Code(short(json.dumps(start, sort_keys=True, default=str), 120))
+                       if start is not None else "-")
+        table.append(row)
+    blocks.append(Table(head, table, numeric=(0,)))
+
+    example = next((e for e in failed if e.get("steps")), None)
+    if example is not None:
+        steps = example["steps"]
+        last = steps[-15:]
+        blocks += [Heading(3, f"Last steps of failed episode {example.get('index')}"),
+                   Table(["step", "node", "primitive", "param", "certificate", "reason"],
+                         [[str(len(steps) - len(last) + i + 1), str(s.get("node") or "-"),
+                           str(s.get("primitive")), Code(short(json.dumps(s.get("param"),
+                                                                          default=str), 60)),
+                           "held" if s.get("certificate") else "FAILED",
+                           short(s.get("reason") or "", 120)] for i, s in enumerate(last)],
+                         numeric=(0,))]
+    errors = [e for e in failed if e.get("error")][:MAX_TRACEBACKS]
+    for episode in errors:
+        blocks.append(Preformatted(str(episode["error"]),
+                                   f"Traceback of episode {episode.get('index')}"))
+    return blocks
+
+
+def graph_blocks(report: dict[str, Any], plan: dict[str, Any],
+                 episodes: list[dict[str, Any]]) -> list[Block]:
+    """Section 4: the behavior graph and its sub-behaviors, coloured by failed certificates."""
+    blocks: list[Block] = [Heading(2, "The behavior graph")]
+    if plan.get("policy", report.get("policy")):
+        return blocks + [Paragraph(["A trained RL agent (", Code(str(report.get("behavior"))),
+                                    ") was verified, not a behavior graph: there is no graph to "
+                                    "draw."])] + primitive_table(episodes)
+    specs = plan.get("behaviors") or {}
+    order = attribution.behavior_order(str(plan.get("behavior", report.get("behavior", ""))),
+                                       specs)
+    if not order:
+        return blocks + [Paragraph(["The plan holds no behavior specs: no picture."])]
+    stats = attribution.node_stats(specs, episodes)
+    most = max((s.failed for table in stats.values() for s in table.values()), default=0)
+    approximate = any(s.approximate for table in stats.values() for s in table.values())
+    blocks.append(Paragraph([
+        "Nodes are coloured by failed certificates (pale green: none; yellow to red: few to "
+        "most); labels give failed / steps run at the node",
+        "; ~ marks counts attributed by primitive because the node was not recorded"
+        if approximate else "",
+        ". Double outline: terminal node; box: sub-behavior (its count totals its nodes); edge "
+        "labels: guards (truncated); the dot marks the start node."]))
+    for i, key in enumerate(order):
+        spec = specs[key]
+        role = "main behavior" if i == 0 else "sub-behavior"
+        title = f"{role}: {spec.get('name', key)}"
+        try:
+            png, how = graph.behavior_png(spec, stats.get(key, {}), most, title)
+        except graph.PictureUnavailable as exc:
+            blocks.append(Paragraph([f"{title}: {exc}"]))
+            continue
+        blocks.append(Figure(f"graph-{i}.png", png, f"graph of the {title}",
+                             f"{title} ({key}), drawn with {how}"))
+    no_certificate = [e for e in episodes
+                      if e.get("rho", 1) < 0 and not e.get("failed_certificates")]
+    if no_certificate:
+        causes = sorted({str(e.get("cause") or "unknown") for e in no_certificate})
+        blocks.append(Paragraph([f"{len(no_certificate)} failed episode(s) ended without a "
+                                 "failed certificate (", "; ".join(causes),
+                                 "): they are not on the graph."]))
+    return blocks + primitive_table(episodes)
+
+
+def primitive_table(episodes: list[dict[str, Any]]) -> list[Block]:
+    table = attribution.failures_by_primitive(episodes)
+    if not table:
+        return []
+    return [Table(["primitive", "steps", "failed certificates", "failure rate"],
+                  [[name, str(s.runs), str(s.failed), f"{s.failed / s.runs:.2%}"]
+                   for name, s in sorted(table.items())], numeric=(1, 2, 3))]
+
+
+def chart_blocks(report: dict[str, Any], episodes: list[dict[str, Any]]) -> list[Block]:
+    """Sections 5 and 6: confidence against eps; rho_B and primitives per episode."""
+    blocks: list[Block] = [Heading(2, "Confidence against eps")]
+    n, k = report["episodes"], report["failures"]
+    note = "fixed-N formula, description only" if sequential(report) else ""
+    try:
+        blocks.append(Figure("confidence.png",
+                             plots.confidence_png(n, k, report["epsilon"], report["delta"], note),
+                             "confidence against eps",
+                             f"1 - binom.cdf(k, N, eps) for N = {n}, k = {k}; the dotted lines "
+                             "mark the campaign's eps and 1 - delta; where the curve crosses "
+                             "1 - delta, eps equals 1 minus the Clopper–Pearson lower bound."
+                             + (" The number of episodes was not fixed in advance: this curve "
+                                "is no guarantee." if note else "")))
+    except ImportError:
+        blocks.append(Paragraph([MATPLOTLIB_MISSING]))
+    blocks.append(Heading(2, "Episodes"))
+    if not episodes:
+        return blocks + [Paragraph(["No episode records were given."])]
+    try:
+        blocks.append(Figure("episodes.png", plots.episodes_png(episodes),
+                             "rho_B and primitives per episode",
+                             "rho_B and the number of primitives of every episode, by index "
+                             "(failures in red), and a histogram of primitives per episode."))
+    except ImportError:
+        blocks.append(Paragraph([MATPLOTLIB_MISSING]))
+    seconds = [e.get("seconds", 0.0) for e in episodes]
+    blocks.append(Paragraph([f"Primitives per episode: mean "
+                             f"{np.mean([e.get('primitives', 0) for e in episodes]):.2f}, max "
+                             f"{max(e.get('primitives', 0) for e in episodes)}; seconds per "
+                             f"episode: median {np.median(seconds):.4f}, max {max(seconds):.4f}."]))
+    return blocks
+
+
+def frame_blocks(frames: dict[str, list[np.ndarray]] | None) -> list[Block]:
+    """Section 7: a few frames of the episodes given."""
+    if not frames:
+        return []
+    blocks: list[Block] = [Heading(2, "Frames")]
+    for g, (label, images) in enumerate(frames.items()):
+        chosen = pick(len(images), MAX_FRAMES)
+        figures = [Figure(f"frames-{g}-{j}.png", encode_png(thumbnail(images[j])),
+                          f"{label}, frame {j + 1} of {len(images)}", f"frame {j + 1}")
+                   for j in chosen]
+        blocks.append(Gallery(str(label), figures) if figures else
+                      Paragraph([f"{label}: no frames."]))
+    return blocks
+
+
+def provenance_blocks(report: dict[str, Any], plan: dict[str, Any]) -> list[Block]:
+    """Section 8: what ran, where, from which files."""
+    def js(value: Any) -> Code:
+        return Code(json.dumps(value, sort_keys=True, default=str))
+
+    rows: list[list[Any]] = [
+        ["environment", Code(str(report.get("env_id", plan.get("env_id"))))],
+        ["environment kwargs", js(plan.get("env_kwargs", report.get("env_kwargs", {})))],
+        ["environment modules", js(plan.get("env_modules", report.get("env_modules", [])))],
+        ["trained agent" if report.get("policy") else "behavior",
+         Code(str(report.get("behavior")))],
+        ["content sha256", Code(str(plan.get("content_sha256", "not recorded")))],
+        ["root seed", Code(str(report.get("seed")))],
+        ["stop on first failure", str(plan.get("stop_on_failure", "not recorded"))],
+        ["sampling distribution", str(report.get("sampling_distribution", "not recorded"))],
+    ]
+    rows += [[f"version: {name}", Code(str(version))]
+             for name, version in sorted((plan.get("versions") or {}).items())]
+    if report.get("machine"):
+        rows.append(["machine", f"{report['machine']}, {report.get('workers', 1)} worker(s)"])
+    return [Heading(2, "Provenance"), Table(["item", "value"], rows)]
+
+
+def build_document(report: dict[str, Any], episodes: list[dict[str, Any]], plan: dict[str, Any],
+                   frames: dict[str, list[np.ndarray]] | None = None,
+                   store_path: str | None = None) -> Document:
+    """The whole report."""
+    episodes = sorted(episodes, key=lambda e: e.get("index", 0))
+    document = Document(f"Verification report: {report.get('behavior')} on "
+                        f"{report.get('env_id')}")
+    document.add(*claim_blocks(report), *numbers_table(report),
+                 *failure_blocks(report, episodes, store_path),
+                 *graph_blocks(report, plan, episodes), *chart_blocks(report, episodes),
+                 *frame_blocks(frames), *provenance_blocks(report, plan))
+    return document

@@ -1,0 +1,42 @@
+"""Writing a campaign's report folder: report.json, report.md (+ figures/) and report.html."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vlb_gym.core.files import write_atomic
+
+from . import html, markdown
+from .content import build_document
+
+
+def write_report_dir(out_dir: Path, report: dict[str, Any], episodes: list[dict[str, Any]],
+                     plan: dict[str, Any], frames: dict[str, list[np.ndarray]] | None = None,
+                     store_path: str | None = None) -> list[Path]:
+    """Write the report of a finished campaign into ``out_dir`` and return the files written.
+
+    ``report`` is what :func:`vlb_gym.verify.campaign.build_report` (or ``run_sequential``)
+    returns, ``episodes`` one dict per episode, ``plan`` the campaign plan with ``behaviors``
+    (``{source: behavior spec}``) for the graph pictures, ``frames`` optional
+    ``{label: [RGB arrays]}`` and ``store_path`` the campaign store, for replay commands
+    (omitted when None). report.html needs nothing but itself; report.md shows the PNG files
+    in ``figures/``. Every file is written atomically.
+    """
+    out_dir = Path(out_dir)
+    document = build_document(report, episodes, plan, frames, store_path)
+    written: list[Path] = []
+
+    def put(path: Path, content: str | bytes) -> None:
+        write_atomic(path, content)
+        written.append(path)
+
+    put(out_dir / "report.json", json.dumps(report, indent=2, default=str) + "\n")
+    for fig in document.figures():
+        put(out_dir / markdown.FIGURE_DIR / fig.name, fig.png)
+    put(out_dir / "report.md", markdown.render(document))
+    put(out_dir / "report.html", html.render(document))
+    return written
