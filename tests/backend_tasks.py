@@ -8,8 +8,7 @@ import signal
 import time
 from pathlib import Path
 
-from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed
-from vlb_gym.verify.episode import run_episode
+from vlb_gym.verify.campaign import CampaignConfig, episode_runner
 
 
 def _square(i: int) -> tuple[int, int]:
@@ -61,14 +60,9 @@ def slow():
     return _slow
 
 
-def _episode(config: CampaignConfig, env, policy, i: int):
-    return run_episode(env, policy, episode_seed(config.seed, i), i, config.stop_on_failure)
-
-
 def campaign(config: CampaignConfig):
     """The runner a campaign's workers build: the env and the policy once, then episodes."""
-    env, policy = build(config)
-    return functools.partial(_episode, config, env, policy)
+    return episode_runner(config)
 
 
 class RunError(Exception):

@@ -3,6 +3,7 @@ computed bounds, and opened in a real headless browser."""
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import json
 import math
@@ -15,62 +16,31 @@ import numpy as np
 import pytest
 from scipy.stats import beta
 
-import vlb_gym
 from vlb_gym.reports import graph as report_graph
 from vlb_gym.reports import write_report_dir
-from vlb_gym.reports.attribution import node_stats
+from vlb_gym.reports.attribution import node_stats, plan_behaviors
 from vlb_gym.reports.png import encode_png
-from vlb_gym.verify.campaign import (CampaignConfig, build, campaign_plan, episode_seed,
-                                     run_campaign, run_sequential)
-from vlb_gym.verify.episode import run_episode
+from vlb_gym.verify.campaign import Campaign, CampaignConfig
 
-BEHAVIORS = Path(vlb_gym.__file__).parent / "behaviors"
-MAIN, SUB = "find_goal_and_oscillate", "explore_until_goal"
+# the plan keys shipped behaviors by their file names
+MAIN, SUB = "find_goal_and_oscillate.json", "explore_until_goal.json"
 STORE = "/tmp/campaign store.sqlite"  # a space: the replay command must quote it
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 
 
-def behavior_specs() -> dict[str, dict]:
-    return {name: json.loads((BEHAVIORS / f"{name}.json").read_text()) for name in (MAIN, SUB)}
-
-
-def episodes_with_steps(config: CampaignConfig, results) -> list[dict]:
-    """The results' dicts plus the keys being added to episode records (steps, start, error),
-    rebuilt here by replaying every episode with its seed and the behavior's trace."""
-    env, policy = build(config)
-    episodes = []
-    for result in sorted(results, key=lambda r: r.index):
-        infos: list[dict] = []
-        again = run_episode(env, policy, episode_seed(config.seed, result.index), result.index,
-                            config.stop_on_failure,
-                            on_step=lambda info, infos=infos: infos.append(info) if info else None)
-        assert again.rho == result.rho  # replay is exact
-        nodes = [node for _, node in policy.trace]
-        steps = [{"primitive": info["primitive"], "node": node,
-                  "param": np.asarray(info["param"]).tolist(),
-                  "certificate": bool(info["certificate"]), "reason": info.get("reason"),
-                  "cause": None} for info, node in zip(infos, nodes, strict=True)]
-        episodes.append({**result.to_dict(), "steps": steps,
-                         "start": {"cell": list(map(int, infos[0]["cell"]))} if infos else None,
-                         "error": None})
-    env.close()
-    return episodes
-
-
 @pytest.fixture(scope="module")
 def campaign(tmp_path_factory):
     """A real 30-episode campaign of Behavior 2 (with Behavior 1 as sub-behavior) under action
     noise: both successes and failures, of two causes."""
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setenv("VLB_BEHAVIOR_DIR", str(tmp_path_factory.mktemp("library")))
-        config = CampaignConfig("VLB-GridExplore-v0", MAIN, 30, epsilon=0.1,
-                                env_kwargs={"action_noise": 2.3})
-        results = []
-        report = run_campaign(config, on_episode=results.append)
-        episodes = episodes_with_steps(config, results)
-        plan = {**campaign_plan(config), "behaviors": behavior_specs()}
+    config = CampaignConfig("VLB-GridExplore-v0", MAIN[:-5], 30, epsilon=0.1,
+                            env_kwargs={"action_noise": 2.3})
+    results = []
+    with Campaign(config) as prepared:
+        report = dict(prepared.run(on_episode=results.append))
+        plan = prepared.plan
+    episodes = [r.to_dict() for r in sorted(results, key=lambda r: r.index)]
     assert 0 < report["failures"] < report["episodes"]
     assert len(report["failures_by_cause"]) >= 2
     frames = {"failed episode": [np.full((90, 120, 3), (200, 60, 60), np.uint8)] * 8,
@@ -118,11 +88,12 @@ def test_markdown_holds_independently_computed_numbers(campaign):
         assert f"`vlb replay '{STORE}' --episode {first['index']}`" in text
     assert "![graph of the main behavior: find\\_goal\\_and\\_oscillate](figures/graph-0.png)" in text
     assert campaign["plan"]["content_sha256"] in text
+    assert "the behavior **find\\_goal\\_and\\_oscillate** succeeds" in text
     assert "uniform over the allowable space" in text
 
 
 def test_failures_are_attributed_to_nodes(campaign):
-    stats = node_stats(campaign["plan"]["behaviors"], campaign["episodes"])
+    stats = node_stats(plan_behaviors(campaign["plan"]), campaign["episodes"], MAIN)
     failed_steps = sum(not s["certificate"] for e in campaign["episodes"] for s in e["steps"])
     per_node = sum(s.failed for key in (SUB,) for s in stats[key].values()) + sum(
         s.failed for node, s in stats[MAIN].items() if node != "explore")
@@ -182,8 +153,8 @@ def test_graph_pictures_with_and_without_graphviz(campaign, monkeypatch, which):
     if which != "dot":
         monkeypatch.setattr(report_graph.shutil, "which",
                             lambda name: "/bin/false" if which == "broken dot" else None)
-    specs = campaign["plan"]["behaviors"]
-    stats = node_stats(specs, campaign["episodes"])
+    specs = plan_behaviors(campaign["plan"])
+    stats = node_stats(specs, campaign["episodes"], MAIN)
     png, how = report_graph.behavior_png(specs[MAIN], stats[MAIN], 5, "main behavior")
     assert how == ("graphviz" if which == "dot" else "networkx")
     width, height = _png_size(png)
@@ -198,10 +169,10 @@ def test_untrusted_strings_are_escaped(campaign, tmp_path):
     episodes = [dict(e) for e in campaign["episodes"]]
     first = next(e for e in episodes if e["rho"] < 0)
     first.update(cause=evil, reason=evil + " | `x` ``", error=f"Traceback\n{evil}")
-    specs = json.loads(json.dumps(campaign["plan"]["behaviors"]))
+    specs = json.loads(json.dumps(plan_behaviors(campaign["plan"])))
     specs[SUB]["nodes"][0]["id"] = 'sense"]; evil [label="\\N'  # DOT injection attempt
     specs[SUB]["edges"][0]["guard"] = evil
-    plan = {**campaign["plan"], "behaviors": specs}
+    plan = {**campaign["plan"], "policy_content": {"behaviors": specs}}
     write_report_dir(tmp_path, report, episodes, plan, store_path="/tmp/x';rm -rf ~;'")
     html = (tmp_path / "report.html").read_text()
     assert "<script" not in html and "<img src=x" not in html
@@ -213,11 +184,12 @@ def test_untrusted_strings_are_escaped(campaign, tmp_path):
 
 
 def test_sequential_report(tmp_path):
-    config = CampaignConfig("VLB-GridExplore-v0", MAIN, 1, epsilon=0.1,
+    config = CampaignConfig("VLB-GridExplore-v0", MAIN[:-5], 1, epsilon=0.1,
                             env_kwargs={"action_noise": 2.3})
     results: list = []
-    report = run_sequential(config, max_episodes=40, on_episode=results.append)
-    plan = {**campaign_plan(config), "behaviors": behavior_specs()}
+    with Campaign(dataclasses.replace(config, episodes=40)) as prepared:
+        report = dict(prepared.run_sequential(on_episode=results.append))
+        plan = prepared.plan
     write_report_dir(tmp_path, report, [r.to_dict() for r in results], plan)
     text = (tmp_path / "report.md").read_text()
     assert f"Decision: **{report['decision']}**" in text
@@ -234,14 +206,15 @@ def test_old_store_records_and_trained_agents(campaign, tmp_path):
     write_report_dir(tmp_path / "old", campaign["report"], old, campaign["plan"])
     text = (tmp_path / "old" / "report.md").read_text()
     assert "attributed by primitive" in text
-    stats = node_stats(campaign["plan"]["behaviors"], old)
+    stats = node_stats(plan_behaviors(campaign["plan"]), old, MAIN)
     navigate_failures = sum(e["cause"].startswith("navigate") for e in old if e["rho"] < 0)
     assert stats[SUB]["go"].failed == navigate_failures and stats[SUB]["go"].approximate
-    report = {**campaign["report"], "policy": True, "behavior": "agents/ppo.zip"}
-    written = write_report_dir(tmp_path / "agent", report, old, {**campaign["plan"],
-                                                                "policy": True})
+    agent = {"kind": "sb3", "ref": "agents/ppo.zip", "library": None}
+    report = {**campaign["report"], "policy": agent, "behavior": "agents/ppo.zip"}
+    written = write_report_dir(tmp_path / "agent", report, old,
+                               {**campaign["plan"], "policy": agent, "policy_content": {}})
     text = (tmp_path / "agent" / "report.md").read_text()
-    assert "there is no graph to draw" in text
+    assert "there is no graph to draw" in text and "the trained agent **agents/ppo.zip**" in text
     assert not any(p.name.startswith("graph-") for p in written)
 
 

@@ -153,8 +153,6 @@ class SB3Loader:
     """Trained agents as the policies of campaigns (policy kind ``sb3``): ``NAME.zip`` with its
     metadata ``NAME.json`` beside it."""
 
-    option = "--policy"
-
     def load(self, ref, env: gym.Env) -> SB3Policy:
         return SB3Policy(ref.ref, env)
 

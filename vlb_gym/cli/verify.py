@@ -148,12 +148,58 @@ def cmd_report(args: argparse.Namespace) -> int:
     store = _read_store(args.store)
     try:
         report = report_from_store(store)
+        plan, episodes = store.plan(), store.results()
     except StoreError as exc:
         raise UsageError(str(exc)) from None
     finally:
         store.close()
+    if args.out:
+        from vlb_gym.reports import write_report_dir
+
+        out = Path(args.out)
+        if out.exists() and not out.is_dir():
+            raise UsageError(f"--out {args.out}: not a directory")
+        check_output(str(out / "report.html"), [args.store], True, "--out")
+        frames = episode_frames(plan, episodes) if args.frames else None
+        written = write_report_dir(out, report, [e.to_dict() for e in episodes], plan, frames,
+                                   args.store)
+        print(f"wrote {', '.join(str(p) for p in written if p.parent == out)}")
+        return 0
     print(report.to_json() if args.json else report.summary(), end="\n" * (not args.json))
     return 0
+
+
+def episode_frames(plan: dict[str, Any], episodes: list) -> dict[str, list[np.ndarray]]:
+    """Frames of the first failed and the first successful episode of a stored campaign, replayed
+    where the env renders and the policy is the one the campaign ran (else none)."""
+    from vlb_gym.verify.campaign import CampaignConfig, build
+    from vlb_gym.verify.episode import run_episode
+    from vlb_gym.verify.policies import policy_loader
+
+    config = CampaignConfig.from_plan(plan)
+    try:
+        env, policy = build(config, "rgb_array")
+    except (ValueError, ImportError) as exc:
+        print(f"vlb report: no frames: {exc}", file=sys.stderr)
+        return {}
+    frames: dict[str, list[np.ndarray]] = {}
+    try:
+        if policy_loader(config.policy.kind).content(config.policy, policy)["sha256"] != \
+                plan["content_sha256"]:
+            print("vlb report: no frames: the policy changed since the campaign", file=sys.stderr)
+            return {}
+        for label, success in (("failed", False), ("successful", True)):
+            record = next((e for e in episodes if e.success == success), None)
+            if record is None:
+                continue
+            shots: list[np.ndarray] = []
+            env.unwrapped.film(shots.append)
+            run_episode(env, policy, record.seed, record.index, config.stop_on_failure)
+            env.unwrapped.film(None)
+            frames[f"{label} episode {record.index}"] = shots
+    finally:
+        env.close()
+    return frames
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -370,6 +416,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                        "campaign kept in a store by 'vlb verify --store', from the store alone.")
     t.add_argument("store", metavar="STORE", help="the SQLite file given to vlb verify --store")
     t.add_argument("--json", action="store_true", help="print the JSON report")
+    t.add_argument("--out", metavar="DIR",
+                   help="write report.json, report.md (with figures/) and a self-contained "
+                   "report.html here: the claim in words, failures by cause with replay "
+                   "commands, the behavior graph coloured by failed certificates, confidence "
+                   "against eps, per-episode charts, frames of a failed and a successful episode")
+    t.add_argument("--no-frames", dest="frames", action="store_false",
+                   help="with --out: no frames (they replay two episodes with rendering)")
     t.set_defaults(func=cmd_report)
 
     p = sub.add_parser("plan", help="print the number of episodes a guarantee needs",

@@ -85,14 +85,27 @@ def load_json(text: str | bytes, source: str, max_depth: int = MAX_JSON_DEPTH) -
 
 def write_atomic(path: str | os.PathLike[str], content: str | bytes) -> None:
     """Write ``content`` (text or bytes) to ``path`` so that readers see the old file or the whole
-    new one; on any failure the temporary file is removed and the old file stays as it was."""
+    new one; on any failure the temporary file is removed and the old file stays as it was. The
+    file gets the permissions of a file created by ``open`` (an existing file's, if it exists)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        mode = path.stat().st_mode & 0o7777
+    except FileNotFoundError:
+        mode = 0o666 & ~_umask()
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
+        os.fchmod(fd, mode)  # mkstemp's file is private (0600)
         with os.fdopen(fd, "wb" if isinstance(content, bytes) else "w") as handle:
             handle.write(content)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def _umask() -> int:
+    """The process's umask (read by setting it, then restoring it)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask

@@ -176,8 +176,6 @@ class BehaviorLoader:
     """Behavior graphs as the policies of campaigns (policy kind ``behavior``): a name, resolved
     in ``ref.library`` (default: the user's library), or a JSON file."""
 
-    option = "--behavior"
-
     def load(self, ref, env: gym.Env) -> BehaviorPolicy:
         library = BehaviorLibrary(Path(ref.library)) if ref.library else None
         return load_behavior(ref.ref, env, library)

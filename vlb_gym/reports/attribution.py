@@ -1,6 +1,7 @@
 """Which behavior graphs a report draws, and how often each node's certificate failed.
 
-A failed step (``certificate`` false) counts against its ``node``; a step with no node (or,
+A failed step (``certificate`` false) counts against its ``node`` (a node id of the main
+behavior, ``sub/node`` in sub-behavior ``sub``); a step with no node (or,
 for stores written before episodes kept their steps, a failed episode whose cause names a
 primitive) counts against every node running that primitive, and such counts are marked
 approximate. A sub-behavior node totals the nodes of the behavior it names.
@@ -26,6 +27,16 @@ class NodeStats:
         self.runs += other.runs
         self.failed += other.failed
         self.approximate = self.approximate or other.approximate
+
+
+def plan_behaviors(plan: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """The behavior specs a campaign plan records, by source (none for a trained agent)."""
+    return dict((plan.get("policy_content") or {}).get("behaviors") or {})
+
+
+def is_agent(plan: Mapping[str, Any]) -> bool:
+    """Whether the campaign verified a trained agent rather than a behavior graph."""
+    return (plan.get("policy") or {}).get("kind", "behavior") != "behavior"
 
 
 def _stem(ref: str) -> str:
@@ -89,17 +100,19 @@ def steps_of(episodes: list[dict[str, Any]], primitives: set[str]) -> list[dict[
     return pseudo
 
 
-def node_stats(specs: Mapping[str, dict[str, Any]], episodes: list[dict[str, Any]]
-               ) -> dict[str, dict[str, NodeStats]]:
-    """``{behavior key: {node id: NodeStats}}`` for every node of every behavior in ``specs``."""
-    by_node: dict[tuple[str, str], NodeStats] = {}
+def node_stats(specs: Mapping[str, dict[str, Any]], episodes: list[dict[str, Any]],
+               main: str) -> dict[str, dict[str, NodeStats]]:
+    """``{behavior key: {node id: NodeStats}}`` for every node of every behavior in ``specs``;
+    ``main`` is the key of the behavior the campaign ran."""
+    by_node: dict[tuple[str, str, str], NodeStats] = {}
     by_primitive: dict[str, NodeStats] = {}
     for step in steps_of(episodes, known_primitives(specs)):
         primitive, node = str(step.get("primitive")), step.get("node")
         if node is None:
             stats = by_primitive.setdefault(primitive, NodeStats(approximate=True))
         else:
-            stats = by_node.setdefault((str(node), primitive), NodeStats())
+            behavior, _, node_id = str(node).rpartition("/")
+            stats = by_node.setdefault((behavior, node_id, primitive), NodeStats())
         stats.runs += 1 if step.get("counted", True) else 0
         stats.failed += step.get("certificate") is False
 
@@ -109,6 +122,7 @@ def node_stats(specs: Mapping[str, dict[str, Any]], episodes: list[dict[str, Any
         if key in result:
             return result[key]
         table: dict[str, NodeStats] = {}
+        behavior = "" if key == main else str(specs[key].get("name", key))
         for node in specs[key].get("nodes", []):
             node_id, stats = str(node.get("id")), NodeStats()
             ref = child_ref(node)
@@ -119,7 +133,7 @@ def node_stats(specs: Mapping[str, dict[str, Any]], episodes: list[dict[str, Any
                         stats.add(sub)
             else:
                 primitive = str(node.get("primitive"))
-                stats.add(by_node.get((node_id, primitive), NodeStats()))
+                stats.add(by_node.get((behavior, node_id, primitive), NodeStats()))
                 stats.add(by_primitive.get(primitive, NodeStats()))
             table[node_id] = stats
         result[key] = table

@@ -42,7 +42,7 @@ def joined(parts: list[Inline], separator: str = ", ") -> list[Inline]:
 
 def subject(report: dict[str, Any]) -> list[Inline]:
     """"the behavior NAME" or "the trained agent PATH"."""
-    what = "the trained agent " if report.get("policy") else "the behavior "
+    what = "the trained agent " if attribution.is_agent(report) else "the behavior "
     return [what, Strong(str(report.get("behavior", "?")))]
 
 
@@ -210,16 +210,15 @@ def graph_blocks(report: dict[str, Any], plan: dict[str, Any],
                  episodes: list[dict[str, Any]]) -> list[Block]:
     """Section 4: the behavior graph and its sub-behaviors, coloured by failed certificates."""
     blocks: list[Block] = [Heading(2, "The behavior graph")]
-    if plan.get("policy", report.get("policy")):
+    if attribution.is_agent(plan):
         return blocks + [Paragraph(["A trained RL agent (", Code(str(report.get("behavior"))),
                                     ") was verified, not a behavior graph: there is no graph to "
                                     "draw."])] + primitive_table(episodes)
-    specs = plan.get("behaviors") or {}
-    order = attribution.behavior_order(str(plan.get("behavior", report.get("behavior", ""))),
-                                       specs)
+    specs = attribution.plan_behaviors(plan)
+    order = attribution.behavior_order(str(report.get("behavior", "")), specs)
     if not order:
         return blocks + [Paragraph(["The plan holds no behavior specs: no picture."])]
-    stats = attribution.node_stats(specs, episodes)
+    stats = attribution.node_stats(specs, episodes, order[0])
     most = max((s.failed for table in stats.values() for s in table.values()), default=0)
     approximate = any(s.approximate for table in stats.values() for s in table.values())
     blocks.append(Paragraph([
@@ -317,7 +316,7 @@ def provenance_blocks(report: dict[str, Any], plan: dict[str, Any]) -> list[Bloc
         ["environment", Code(str(report.get("env_id", plan.get("env_id"))))],
         ["environment kwargs", js(plan.get("env_kwargs", report.get("env_kwargs", {})))],
         ["environment modules", js(plan.get("env_modules", report.get("env_modules", [])))],
-        ["trained agent" if report.get("policy") else "behavior",
+        ["trained agent" if attribution.is_agent(report) else "behavior",
          Code(str(report.get("behavior")))],
         ["content sha256", Code(str(plan.get("content_sha256", "not recorded")))],
         ["root seed", Code(str(report.get("seed")))],

@@ -19,9 +19,9 @@ def write_report_dir(out_dir: Path, report: dict[str, Any], episodes: list[dict[
                      store_path: str | None = None) -> list[Path]:
     """Write the report of a finished campaign into ``out_dir`` and return the files written.
 
-    ``report`` is what :func:`vlb_gym.verify.campaign.build_report` (or ``run_sequential``)
-    returns, ``episodes`` one dict per episode, ``plan`` the campaign plan with ``behaviors``
-    (``{source: behavior spec}``) for the graph pictures, ``frames`` optional
+    ``report`` is a :class:`~vlb_gym.verify.report.Report` (or its JSON), ``episodes`` one
+    :meth:`~vlb_gym.verify.episode.EpisodeResult.to_dict` per episode, ``plan`` the campaign
+    plan (its ``policy_content.behaviors``, ``{source: behavior spec}``, give the graph pictures), ``frames`` optional
     ``{label: [RGB arrays]}`` and ``store_path`` the campaign store, for replay commands
     (omitted when None). report.html needs nothing but itself; report.md shows the PNG files
     in ``figures/``. Every file is written atomically.
@@ -34,7 +34,7 @@ def write_report_dir(out_dir: Path, report: dict[str, Any], episodes: list[dict[
         write_atomic(path, content)
         written.append(path)
 
-    put(out_dir / "report.json", json.dumps(report, indent=2, default=str) + "\n")
+    put(out_dir / "report.json", json.dumps(dict(report), indent=2, default=str) + "\n")
     for fig in document.figures():
         put(out_dir / markdown.FIGURE_DIR / fig.name, fig.png)
     put(out_dir / "report.md", markdown.render(document))

@@ -371,14 +371,25 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
         actors[actor] = collections.deque()
         feed(actor)
 
-    def died(actor: Any, error: BaseException) -> None:
+    def died(actor: Any, error: BaseException) -> list[tuple[list[int], list[Any]]]:
+        """Replace a dead actor; return the chunks it finished before dying, with their results
+        (not yet yielded: ray.wait may report the death first)."""
         sent = actors.pop(actor)
         for ref, _ in sent:
             owner.pop(ref, None)
+        finished, unfinished = [], []
+        for ref, chunk in sent:
+            if not unfinished:
+                try:
+                    finished.append((chunk, ray.get(ref, timeout=0)))
+                    continue
+                except Exception:  # the actor died before finishing it (or had not run it)
+                    pass
+            unfinished.append(chunk)
         ray.kill(actor, no_restart=True)
-        # the oldest chunk was running: retried index by index to find the culprit; the rest
-        # had not started
-        (_, running), rest = sent[0], [chunk for _, chunk in list(sent)[1:]]
+        # the oldest unfinished chunk was running: retried index by index to find the culprit;
+        # the rest had not started
+        running, rest = unfinished[0], unfinished[1:]
         todo.extendleft(reversed(rest))
         if len(running) > 1:
             todo.extendleft([i] for i in reversed(running))
@@ -390,6 +401,7 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
                     f"{deaths[running[0]]} times, so it is not tried again ({error})")
             todo.appendleft(running)
         start()
+        return finished
 
     try:
         for _ in range(min(workers, len(todo))):
@@ -403,7 +415,9 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
                 try:
                     results = ray.get(ref)
                 except (RayActorError, WorkerCrashedError) as error:
-                    died(actor, error)
+                    for chunk, results in died(actor, error):
+                        remaining -= len(chunk)
+                        yield from results
                     continue
                 except RayTaskError as error:
                     cause = getattr(error, "cause", None)

@@ -39,9 +39,6 @@ class PolicyRef:
 class PolicyLoader(Protocol):
     """What a kind of policy supplies to campaigns."""
 
-    #: the ``vlb verify``/``vlb replay`` option that names a policy of this kind
-    option: str
-
     def load(self, ref: PolicyRef, env: gym.Env) -> Policy:
         """The policy, ready to run on ``env`` (checked: a bad reference raises ValueError)."""
 

@@ -36,6 +36,9 @@ def failures_by_cause(results: Sequence[EpisodeResult], examples: int = 3) -> li
             for cause, failed in sorted(groups.items(), key=lambda item: -len(item[1]))]
 
 
+_REPLAY_OPTIONS = {"behavior": "--behavior", "sb3": "--policy"}  # what 'vlb replay' takes
+
+
 class Report(Mapping[str, Any]):
     """A campaign's report: a read-only mapping of its JSON keys (those of ARCHITECTURE.md and
     more), with :meth:`summary` in words and :meth:`replay_command` for any episode.
@@ -151,12 +154,15 @@ class Report(Mapping[str, Any]):
         return cls(base, store)
 
     # -- words ----------------------------------------------------------------------------------
-    def replay_command(self, index: int, seed: int) -> str:
-        """The command that re-runs episode ``index`` (reset seed ``seed``) step by step."""
+    def replay_command(self, index: int, seed: int) -> str | None:
+        """The command that re-runs episode ``index`` (reset seed ``seed``) step by step (None
+        for a policy kind of its own, which ``vlb replay`` cannot name, outside a store)."""
         if self.store:
             return f"vlb replay {shlex.quote(self.store)} --episode {index}"
         policy = self["policy"]
-        option = "--policy" if policy["kind"] == "sb3" else "--behavior"
+        option = _REPLAY_OPTIONS.get(policy["kind"])
+        if option is None:
+            return None
         words = ["vlb", "replay", self["env_id"], option, policy["ref"], "--seed", str(seed)]
         for key, value in self["env_kwargs"].items():
             words += ["--env-kwarg", f"{key}={json.dumps(value)}"]
@@ -234,6 +240,7 @@ class Report(Mapping[str, Any]):
                          f"{item['reason']}")
         if len(failed) > 5:
             lines.append(f"  ... {len(failed) - 5} more failed episodes in the report")
-        if failed:
-            lines.append(f"  replay one: {self.replay_command(failed[0]['index'], failed[0]['seed'])}")
+        command = failed and self.replay_command(failed[0]["index"], failed[0]["seed"])
+        if command:
+            lines.append(f"  replay one: {command}")
         return lines

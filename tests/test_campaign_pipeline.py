@@ -1,0 +1,184 @@
+"""The campaign pipeline end to end: policy loaders, backends giving the same report, the JSONL
+export, replays checked against the store, and report folders written from a store."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sqlite3
+
+import pytest
+
+from vlb_gym.cli import main
+from vlb_gym.verify import Campaign, CampaignConfig, PolicyRef, register_policy_loader
+from vlb_gym.verify.episode import EpisodeResult
+from vlb_gym.verify.export import EpisodesExport, read_export
+from vlb_gym.verify.policies import policy_loader
+
+from .conftest import EXAMPLES
+
+GRID = "VLB-GridExplore-v0"
+# how a run went, not what it found
+RUN = ("wall_seconds", "episodes_per_second", "workers", "backend", "machine")
+
+
+def found(report: dict) -> dict:
+    return {k: v for k, v in report.items() if k not in RUN}
+
+
+def verify(tmp_path, name: str, *extra: str) -> dict:
+    out = tmp_path / f"{name}.json"
+    assert main(["verify", GRID, "--behavior", "find_goal_and_oscillate", "--env-kwarg",
+                 "action_noise=2.3", "--episodes", "40", "--epsilon", "0.1", "--seed", "3",
+                 "--quiet", "--report", str(out), *extra]) == 0
+    return json.loads(out.read_text())
+
+
+@pytest.mark.ray
+@pytest.mark.xdist_group("ray")
+@pytest.mark.timeout(180)
+def test_every_backend_gives_the_serial_report(tmp_path, capsys):
+    pytest.importorskip("ray")
+    serial = verify(tmp_path, "serial", "--backend", "serial")
+    assert 0 < serial["failures"] < 40 and serial["backend"] == "serial"
+    process = verify(tmp_path, "process", "--backend", "process", "--workers", "2")
+    ray = verify(tmp_path, "ray", "--backend", "ray", "--workers", "2",
+                 "--store", str(tmp_path / "ray.db"))
+    assert found(process) == found(serial)
+    assert found(ray) == found(serial) and ray["backend"] == "ray"
+
+
+def test_ray_address_needs_the_ray_backend(capsys):
+    assert main(["verify", GRID, "--behavior", "explore_until_goal", "--episodes", "3",
+                 "--epsilon", "0.1", "--ray-address", "auto"]) == 2
+    assert "--ray-address needs --backend ray" in capsys.readouterr().err
+
+
+def test_policy_kinds_come_from_their_packages():
+    from vlb_gym.baselines.train import SB3Loader
+    from vlb_gym.core.library import BehaviorLoader
+
+    assert isinstance(policy_loader("behavior"), BehaviorLoader)
+    assert isinstance(policy_loader("sb3"), SB3Loader)
+    with pytest.raises(ValueError, match=r"unknown policy kind 'nope' \(known: behavior, sb3"):
+        policy_loader("nope")
+
+
+class SenseForever:
+    """A policy of a kind of its own: sense where the robot stands, three times, then finish."""
+
+    def reset(self):
+        self.left = 3
+
+    def predict(self, observation, state=None, episode_start=None, deterministic=True):
+        import numpy as np
+
+        if not self.left:
+            return None, None
+        self.left -= 1
+        return np.array([0, *np.floor(observation["position"] + 5).astype(int)]), "here"
+
+
+class SenseLoader:
+    def load(self, ref, env):
+        return SenseForever()
+
+    def files(self, ref, policy):
+        return []
+
+    def content(self, ref, policy):
+        return {"sha256": "0" * 64}
+
+    def trained_env(self, ref):
+        return None
+
+
+def test_a_registered_policy_kind_runs_like_any_other():
+    register_policy_loader("sense-3", SenseLoader())
+    with Campaign(CampaignConfig(GRID, PolicyRef("sense-3", "x"), 5)) as campaign:
+        report = campaign.run(backend="serial")
+        assert campaign.plan["policy"] == {"kind": "sense-3", "ref": "x", "library": None}
+    assert report["successes"] == 5 and report["mean_primitives"] == 3
+    assert report.replay_command(0, 1) is None  # 'vlb replay' has no option for this kind
+
+
+def test_the_export_has_a_header_and_a_closing_line(tmp_path):
+    path = tmp_path / "e.jsonl"
+    records = [EpisodeResult(i, 10 + i, 1, True, 2, 0, None, 0.1) for i in range(3)]
+    export = EpisodesExport(path, {"episodes": 5})
+    for record in records:
+        export.add(record)
+    assert read_export(path) == ({"episodes": 5}, records, None)  # killed: no closing line
+    export.close(complete=False)
+    assert read_export(path)[2] == {"complete": False, "episodes": 3}
+    with pytest.raises(FileExistsError):
+        EpisodesExport(path, {})
+
+
+@pytest.fixture
+def stored(tmp_path):
+    """A campaign of a copied behavior file with failures, kept in a store."""
+    behavior = tmp_path / "fixed_cell.json"
+    shutil.copy(EXAMPLES / "fixed_cell.json", behavior)
+    store = tmp_path / "campaign.db"
+    assert main(["verify", GRID, "--behavior", str(behavior), "--episodes", "30", "--epsilon",
+                 "0.1", "--quiet", "--store", str(store)]) == 0
+    return store, behavior
+
+
+def failed_index(store) -> int:
+    with sqlite3.connect(store) as db:
+        rows = db.execute("SELECT idx, record FROM episodes ORDER BY idx").fetchall()
+    return next(i for i, record in rows if json.loads(record)["rho"] < 0)
+
+
+def test_replay_from_the_store_checks_the_record(stored, tmp_path, capsys):
+    store, behavior = stored
+    capsys.readouterr()
+    k = failed_index(store)
+    assert main(["replay", str(store), "--episode", str(k)]) == 0
+    out = capsys.readouterr().out
+    assert "FAIL navigate" in out and f"episode {k} (seed" in out
+    assert "reproduces the stored record" in out
+    gif = tmp_path / "replay.gif"
+    assert main(["replay", str(store), "--episode", str(k), "--render", str(gif)]) == 0
+    assert gif.read_bytes().startswith(b"GIF8")
+    # a record that the episode does not reproduce
+    with sqlite3.connect(store) as db:
+        (record,) = db.execute("SELECT record FROM episodes WHERE idx = ?", (k,)).fetchone()
+        db.execute("UPDATE episodes SET record = ? WHERE idx = ?",
+                   (json.dumps({**json.loads(record), "primitives": 99}), k))
+    capsys.readouterr()
+    assert main(["replay", str(store), "--episode", str(k)]) == 1
+    assert "does NOT reproduce the stored record (differs in: primitives)" in \
+        capsys.readouterr().err
+
+
+def test_replay_refuses_what_it_cannot_replay(stored, capsys):
+    store, behavior = stored
+    capsys.readouterr()
+    assert main(["replay", str(store), "--episode", "30"]) == 2
+    assert "episode 30 is not stored (30 of 30 episodes are" in capsys.readouterr().err
+    assert main(["replay", str(store), "--episode", "0", "--seed", "4"]) == 2
+    assert "takes the campaign from the store" in capsys.readouterr().err
+    behavior.write_text(behavior.read_text().replace("(4, 4)", "(4, 5)").replace(
+        '"[4, 4]"', '"[4, 5]"').replace("4, 4", "4, 5"))
+    assert main(["replay", str(store), "--episode", "0"]) == 2
+    assert "changed since the campaign" in capsys.readouterr().err
+
+
+def test_report_folder_from_a_store(stored, tmp_path, capsys):
+    store, _ = stored
+    out = tmp_path / "report"
+    assert main(["report", str(store), "--out", str(out)]) == 0
+    assert {p.name for p in out.iterdir()} >= {"report.json", "report.md", "report.html",
+                                                "figures"}
+    markdown = (out / "report.md").read_text()
+    assert f"vlb replay {store} --episode" in markdown
+    assert "failed episode" in markdown and "successful episode" in markdown  # frames
+    report = json.loads((out / "report.json").read_text())
+    capsys.readouterr()
+    assert main(["report", str(store), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == report
+    (tmp_path / "file").write_text("x")
+    assert main(["report", str(store), "--out", str(tmp_path / "file")]) == 2
