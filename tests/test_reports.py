@@ -187,8 +187,8 @@ def test_sequential_report(tmp_path):
     config = CampaignConfig("VLB-GridExplore-v0", MAIN[:-5], 1, epsilon=0.1,
                             env_kwargs={"action_noise": 2.3})
     results: list = []
-    with Campaign(dataclasses.replace(config, episodes=40)) as prepared:
-        report = dict(prepared.run_sequential(on_episode=results.append))
+    with Campaign(dataclasses.replace(config, episodes=40, sequential=True)) as prepared:
+        report = dict(prepared.run(on_episode=results.append))
         plan = prepared.plan
     write_report_dir(tmp_path, report, [r.to_dict() for r in results], plan)
     text = (tmp_path / "report.md").read_text()

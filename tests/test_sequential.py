@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import sqlite3
 
 import numpy as np
 import pytest
@@ -188,3 +189,33 @@ def test_cli_sequential_usage_errors(args, words, capsys):
         raise SystemExit(code)
     assert exit_info.value.code == 2
     assert words in capsys.readouterr().err
+
+
+def test_a_stored_sequential_campaign_resumes_and_rebuilds_its_report(tmp_path, capsys):
+    """A sequential campaign stores the prefix its test saw; an interrupted one (here: its store
+    cut back to 30 episodes) resumes where it stopped and ends as an uninterrupted one."""
+    store = tmp_path / "seq.db"
+    command = ["verify", GRID, "--behavior", "find_goal_and_oscillate", "--sequential",
+               "--epsilon", "0.05", "--quiet", "--store", str(store)]
+    assert main([*command, "--report", str(tmp_path / "first.json")]) == 0
+    first = json.loads((tmp_path / "first.json").read_text())
+    assert first["decision"] == "certified" and first["stopped_at"] == 81
+    with sqlite3.connect(store) as db:
+        assert db.execute("SELECT COUNT(*) FROM episodes").fetchone() == (81,)  # the prefix
+        db.execute("DELETE FROM episodes WHERE idx >= 30")
+    capsys.readouterr()
+    assert main([*command, "--report", str(tmp_path / "resumed.json")]) == 0
+    assert "resuming" in capsys.readouterr().err
+    resumed = json.loads((tmp_path / "resumed.json").read_text())
+    run = ("wall_seconds", "episodes_per_second", "machine")
+    assert {k: v for k, v in resumed.items() if k not in run} == \
+        {k: v for k, v in first.items() if k not in run}
+    assert main(["report", str(store), "--json"]) == 0
+    rebuilt = json.loads(capsys.readouterr().out)
+    run += ("workers", "backend")
+    assert {k: v for k, v in rebuilt.items() if k not in run} == \
+        {k: v for k, v in first.items() if k not in run}
+    # the same store cannot hold the fixed-N campaign of the same behavior
+    assert main(["verify", GRID, "--behavior", "find_goal_and_oscillate", "--episodes", "1180",
+                 "--epsilon", "0.05", "--quiet", "--store", str(store)]) == 2
+    assert "sequential: stored True, now False" in capsys.readouterr().err

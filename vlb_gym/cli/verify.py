@@ -38,8 +38,6 @@ def _check_verify_args(args: argparse.Namespace) -> None:
         raise UsageError("the following arguments are required: --episodes (or --sequential)")
     if args.max_episodes is not None and not args.sequential:
         raise UsageError("--max-episodes needs --sequential (a fixed-N campaign runs --episodes)")
-    if args.store and args.sequential:
-        raise UsageError("--store keeps fixed-N campaigns only (for now); drop --sequential")
     if args.ray_address and args.backend != "ray":
         raise UsageError("--ray-address needs --backend ray")
 
@@ -58,8 +56,9 @@ def _open_store(path: Path, campaign):
         store.close()
         raise UsageError(f"--store {exc}") from None
     if store.done():
-        print(f"vlb verify: resuming {path}: {len(store.done())} of {campaign.config.episodes} "
-              "episodes are stored", file=sys.stderr)
+        most = "at most " if campaign.config.sequential else ""
+        print(f"vlb verify: resuming {path}: {len(store.done())} of {most}"
+              f"{campaign.config.episodes} episodes are stored", file=sys.stderr)
     return store
 
 
@@ -76,7 +75,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
     config = CampaignConfig(args.env_id, _policy_ref(args), episodes, args.epsilon, args.delta,
                             args.seed, env_kwargs(args.env_kwarg),
                             stop_on_failure=not args.keep_going,
-                            env_modules=env_modules(args.env_module))
+                            env_modules=env_modules(args.env_module), sequential=args.sequential)
     campaign = Campaign(config)  # checks the env and the policy before any episode
     inputs = campaign.files
     export = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
@@ -106,10 +105,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
     report = None
     try:
-        if args.sequential:
-            report = campaign.run_sequential(workers, on_episode, args.backend, args.ray_address)
-        else:
-            report = campaign.run(workers, on_episode, store, args.backend, args.ray_address)
+        report = campaign.run(workers, on_episode, store, args.backend, args.ray_address)
     except KeyboardInterrupt:  # the workers ignore Ctrl-C; leaving the run stops them
         pass
     finally:

@@ -39,7 +39,8 @@ from .store import CampaignStore, StoreError
 @dataclass(frozen=True)
 class CampaignConfig:
     """Everything that defines a campaign; N is fixed before it starts. ``policy`` is a
-    :class:`~.policies.PolicyRef`; a string names a behavior (a name or a JSON file)."""
+    :class:`~.policies.PolicyRef`; a string names a behavior (a name or a JSON file). A
+    ``sequential`` campaign stops when its anytime-valid test decides, N episodes at most."""
 
     env_id: str
     policy: PolicyRef | str
@@ -50,6 +51,7 @@ class CampaignConfig:
     env_kwargs: dict[str, Any] = field(default_factory=dict)
     stop_on_failure: bool = True
     env_modules: tuple[str, ...] = ()  # modules that register the env (imported in workers too)
+    sequential: bool = False
 
     def __post_init__(self) -> None:
         if isinstance(self.policy, str):
@@ -152,66 +154,72 @@ class Campaign:
     def run(self, workers: int = 1, on_episode: Callable[[EpisodeResult], None] | None = None,
             store: CampaignStore | None = None, backend: str = "process",
             ray_address: str | None = None) -> Report:
-        """Run all N episodes and return the report; ``on_episode`` sees each result as it lands.
+        """Run the campaign and return its report; ``on_episode`` sees each result as it lands.
+
+        A fixed-N campaign runs all N episodes. A sequential one runs episodes 0, 1, 2, ...
+        until the anytime-valid test of :mod:`~vlb_gym.verify.sequential` certifies or refutes
+        ``P[success] >= 1 - epsilon`` at level ``delta``, or N (the cap) ran. The test sees
+        episodes in index order: with workers, results arrive unordered and the test decides on
+        the ordered prefix, so the decision, the stopping time and the episodes counted are the
+        same whatever the backend and worker count; ``on_episode`` then sees exactly those
+        episodes, in index order, and episodes that workers finished past the stopping time are
+        discarded.
 
         With a ``store``, the plan is recorded first (or checked against the stored one), every
-        episode is stored as it finishes, the episodes already stored are not run again, and the
-        report is built from the store.
+        episode is stored as it finishes (a sequential campaign stores the prefix its test
+        saw), the episodes already stored are not run again, and the report is built from the
+        store.
         """
         started = time.perf_counter()
-        if store is None:
-            todo: Sequence[int] = range(self.config.episodes)
-            results: list[EpisodeResult] = []
-        else:
+        stored: list[EpisodeResult] = []
+        if store is not None:
             store.start(self.plan)
-            done = store.done()
-            todo = [i for i in range(self.config.episodes) if i not in done]
+            stored = store.results()
+        keep = store.add if store is not None else None
+        if self.config.sequential:
+            results, test = self._sequential(stored, workers, backend, ray_address,
+                                             [f for f in (keep, on_episode) if f])
+            return Report.sequential(self.plan, results, test, self.config.episodes,
+                                     time.perf_counter() - started, workers, backend,
+                                     None if store is None else str(store.path))
+        done = {r.index for r in stored}
+        todo = [i for i in range(self.config.episodes) if i not in done]
+        results = list(stored)
         if todo:
             for result in self.episodes(todo, workers, backend, ray_address):
-                if store is None:
-                    results.append(result)
-                else:
-                    store.add(result)
+                results.append(result)
+                if keep is not None:
+                    keep(result)
                 if on_episode is not None:
                     on_episode(result)
-        if store is not None:
-            results = store.results()
         return Report.fixed_n(self.plan, results, time.perf_counter() - started, workers,
                               backend, None if store is None else str(store.path))
 
-    def run_sequential(self, workers: int = 1,
-                       on_episode: Callable[[EpisodeResult], None] | None = None,
-                       backend: str = "process", ray_address: str | None = None) -> Report:
-        """A sequential campaign (``vlb verify --sequential``): episodes 0, 1, 2, ... until the
-        anytime-valid test of :mod:`~vlb_gym.verify.sequential` certifies or refutes
-        ``P[success] >= 1 - epsilon`` at level ``delta``, or N (the config's ``episodes``, the
-        cap) ran. The test sees episodes in index order: with workers, results arrive unordered
-        and the test decides on the ordered prefix, so the decision, the stopping time and the
-        episodes counted are the same whatever the backend and worker count; ``on_episode`` sees
-        exactly those episodes, in index order. Episodes that workers finished past the stopping
-        time are discarded.
-        """
+    def _sequential(self, stored: list[EpisodeResult], workers: int, backend: str,
+                    ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]
+                    ) -> tuple[list[EpisodeResult], sequential.SequentialTest]:
+        """The episodes the sequential test saw (after the ``stored`` prefix), and the test."""
         config = self.config
-        test = sequential.SequentialTest(config.epsilon, config.delta)
-        started = time.perf_counter()
-        used: list[EpisodeResult] = []
+        test = sequential.replay(config.epsilon, config.delta, stored)
+        used = list(stored)
+        if test.decision is not None or len(used) >= config.episodes:
+            return used, test
         waiting: dict[int, EpisodeResult] = {}
-        stream = self.episodes(None, workers, backend, ray_address)
+        stream = self.episodes(range(len(used), config.episodes), workers, backend, ray_address)
         try:
             for result in stream:
                 waiting[result.index] = result
                 while test.decision is None and len(used) in waiting:
                     ready = waiting.pop(len(used))
                     used.append(ready)
-                    if on_episode is not None:
-                        on_episode(ready)
+                    for consume in consumers:
+                        consume(ready)
                     test.update(ready.success)
                 if test.decision is not None:
                     break
         finally:
             stream.close()  # stops the workers when the test stopped early
-        return Report.sequential(self.plan, used, test, config.episodes,
-                                 time.perf_counter() - started, workers, backend)
+        return used, test
 
 
 def run_campaign(config: CampaignConfig, workers: int = 1,
@@ -231,8 +239,8 @@ def run_sequential(config: CampaignConfig, max_episodes: int | None = None, work
         max_episodes = sequential.default_max_episodes(config.epsilon, config.delta)
     if not isinstance(max_episodes, int) or max_episodes < 1:
         raise ValueError(f"max_episodes must be a positive integer (got {max_episodes!r})")
-    with Campaign(dataclasses.replace(config, episodes=max_episodes)) as campaign:
-        return campaign.run_sequential(workers, on_episode, backend)
+    with Campaign(dataclasses.replace(config, episodes=max_episodes, sequential=True)) as campaign:
+        return campaign.run(workers, on_episode, backend=backend)
 
 
 def report_from_store(store: CampaignStore) -> Report:
@@ -244,5 +252,9 @@ def report_from_store(store: CampaignStore) -> Report:
     results = store.results()
     if not results:
         raise StoreError(f"{store.path}: no episode is stored yet")
-    return Report.fixed_n(plan, results, sum(r.seconds for r in results), 1, "serial",
-                          str(store.path))
+    seconds = sum(r.seconds for r in results)
+    if plan["sequential"]:
+        test = sequential.replay(plan["epsilon"], plan["delta"], results)
+        return Report.sequential(plan, results, test, plan["episodes"], seconds, 1, "serial",
+                                 str(store.path))
+    return Report.fixed_n(plan, results, seconds, 1, "serial", str(store.path))

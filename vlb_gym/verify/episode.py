@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 import traceback
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass, field, fields
 from typing import Any, Protocol
 
 import numpy as np
@@ -59,7 +59,8 @@ class EpisodeResult:
         return self.rho > 0
 
     def to_dict(self) -> dict[str, Any]:
-        record = asdict(self)
+        """The record as JSON data (shared, not copied: steps and start are plain data)."""
+        record = {name: getattr(self, name) for name in _FIELD_NAMES}
         record["steps"] = list(self.steps)
         return record
 
@@ -80,8 +81,16 @@ class EpisodeResult:
                 and (self.error is None) == (other.error is None))
 
 
+_NUMBERS = (int, float, bool)
+
+
 def _plain(value: Any) -> Any:
     """``value`` as plain JSON data (numpy scalars and arrays, tuples -> lists)."""
+    kind = type(value)
+    if kind in _NUMBERS or value is None or kind is str:
+        return value
+    if kind is tuple and all(type(v) in _NUMBERS for v in value):  # most parameters
+        return list(value)
     if isinstance(value, dict):
         return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple, np.ndarray)):
@@ -145,5 +154,6 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
 
 
 _MAX_TRACEBACK = 8000  # characters of a traceback kept (its end: where it was raised)
-_FIELDS = {f.name for f in fields(EpisodeResult)}
+_FIELD_NAMES = tuple(f.name for f in fields(EpisodeResult))
+_FIELDS = frozenset(_FIELD_NAMES)
 

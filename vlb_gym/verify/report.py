@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import multiprocessing as mp
+import os
 import platform
 import shlex
 from collections.abc import Iterator, Mapping, Sequence
@@ -16,6 +17,14 @@ from typing import Any
 
 from . import bounds, sequential
 from .episode import EpisodeResult
+
+
+def shown_path(ref: str) -> str:
+    """A policy reference as printed: a file below the working directory relative to it."""
+    if not os.path.isabs(ref):
+        return ref
+    relative = os.path.relpath(ref)
+    return ref if relative.startswith("..") else relative
 
 
 def ceil_str(x: float, digits: int = 5) -> str:
@@ -163,7 +172,8 @@ class Report(Mapping[str, Any]):
         option = _REPLAY_OPTIONS.get(policy["kind"])
         if option is None:
             return None
-        words = ["vlb", "replay", self["env_id"], option, policy["ref"], "--seed", str(seed)]
+        words = ["vlb", "replay", self["env_id"], option, shown_path(policy["ref"]), "--seed",
+                 str(seed)]
         for key, value in self["env_kwargs"].items():
             words += ["--env-kwarg", f"{key}={json.dumps(value)}"]
         for module in self["env_modules"]:
@@ -194,7 +204,7 @@ class Report(Mapping[str, Any]):
                  f", {rate:.3g} episodes/s" if rate else "")
         mode = (f"sequential, {self['episodes']} episodes (at most {self['max_episodes']}; "
                 if self["mode"] == "sequential" else f"{self['episodes']} episodes (")
-        lines = [f"{self['env_id']} / {self['behavior']}: {mode}seed {self['seed']}, "
+        lines = [f"{self['env_id']} / {shown_path(self['behavior'])}: {mode}seed {self['seed']}, "
                  f"{self['workers']} worker(s), {self['wall_seconds']:.1f} s{speed})"]
         if not self["complete"]:
             lines.append(f"  INCOMPLETE: {self['episodes']} of {self['planned_episodes']} "
