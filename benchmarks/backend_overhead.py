@@ -23,19 +23,9 @@ from collections.abc import Callable
 from typing import Any
 
 from vlb_gym.verify.backends import chunk_size, run_indices
-from vlb_gym.verify.campaign import CampaignConfig, build, episode_seed
-from vlb_gym.verify.episode import run_episode
+from vlb_gym.verify.campaign import CampaignConfig, episode_runner
 
 PRELOAD = ["vlb_gym.verify.campaign"]
-
-
-def _episode(config: CampaignConfig, env: Any, policy: Any, i: int) -> Any:
-    return run_episode(env, policy, episode_seed(config.seed, i), i, config.stop_on_failure)
-
-
-def campaign_setup(config: CampaignConfig) -> Callable[[int], Any]:
-    env, policy = build(config)
-    return functools.partial(_episode, config, env, policy)
 
 
 _RUNNER: Any = None
@@ -75,7 +65,7 @@ def main() -> None:
     print(f"machine: {platform.machine()}, {os.cpu_count()} cpus, Python "
           f"{platform.python_version()}")
     config = CampaignConfig("VLB-GridExplore-v0", "explore_until_goal", args.episodes)
-    setup = functools.partial(campaign_setup, config)
+    setup = functools.partial(episode_runner, config)
     indices = list(range(args.episodes))
     runs: dict[str, Callable[[], list[Any]]] = {
         "bare serial runner": lambda: bare(setup, indices),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shlex
 
 import gymnasium as gym
 import numpy as np
@@ -113,6 +114,25 @@ def test_cli_verify_policy_and_mismatch(tmp_path, capsys):
     assert "was trained on VLB-GridExplore-v0" in capsys.readouterr().err
     assert main(["verify", GRID, "--policy", str(tmp_path / "none.zip"), "--episodes", "5",
                  "--epsilon", "0.1"]) == 2
+
+
+def test_policy_campaigns_replay(tmp_path, capsys):
+    """A --policy campaign's replay hint names --policy, and its stored episodes replay."""
+    saved = train(TASKS["find_goal"], "ppo", tmp_path, budgets=(128,), n_envs=1)[0]
+    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
+                 "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "replay one: vlb replay VLB-GridExplore-v0 --policy " in out
+    hint = shlex.split(out.split("replay one: ")[1].splitlines()[0])
+    assert main(hint[1:]) == 0
+    assert "rho_B = -1" in capsys.readouterr().out  # untrained: fails, as the campaign said
+    store = tmp_path / "agent.db"
+    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
+                 "--quiet", "--store", str(store)]) == 0
+    capsys.readouterr()
+    assert main(["replay", str(store), "--episode", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "reproduces the stored record" in out and "[node" not in out  # an agent: no nodes
 
 
 def test_comparison_benchmark_at_small_scale(tmp_path, capsys):

@@ -49,6 +49,8 @@ class CampaignStore:
         # NORMAL: a commit is in the WAL before add() returns, safe from the process being
         # killed (only a crash of the machine itself may lose the last commits)
         self.db.execute("PRAGMA synchronous=NORMAL")
+        # checkpoints (which fsync) every 32 MiB of log rather than SQLite's 4 MiB
+        self.db.execute("PRAGMA wal_autocheckpoint=8192")
         if fresh:
             self.db.execute(f"PRAGMA application_id={APPLICATION_ID}")
             self.db.execute("CREATE TABLE IF NOT EXISTS plan "
