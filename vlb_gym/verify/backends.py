@@ -338,10 +338,14 @@ def _import_ray() -> Any:
     return ray
 
 
+_DEAD_ACTOR_WAIT = 30.0  # seconds to wait for a dead actor's finished results
+
+
 def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: int,
          address: str | None, max_deaths: int) -> Iterator[T]:
     ray = _import_ray()
-    from ray.exceptions import RayActorError, RayTaskError, WorkerCrashedError
+    from ray.exceptions import (GetTimeoutError, RayActorError, RayTaskError,
+                                WorkerCrashedError)
 
     started = False
     if not ray.is_initialized():
@@ -380,11 +384,11 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
         finished, unfinished = [], []
         for ref, chunk in sent:
             if not unfinished:
-                try:
-                    finished.append((chunk, ray.get(ref, timeout=0)))
+                try:  # a dead actor's refs resolve soon: to results it sent, or to its death
+                    finished.append((chunk, ray.get(ref, timeout=_DEAD_ACTOR_WAIT)))
                     continue
-                except Exception:  # the actor died before finishing it (or had not run it)
-                    pass
+                except (RayActorError, WorkerCrashedError, GetTimeoutError):
+                    pass  # the actor died before finishing it (or had not run it)
             unfinished.append(chunk)
         ray.kill(actor, no_restart=True)
         # the oldest unfinished chunk was running: retried index by index to find the culprit;
