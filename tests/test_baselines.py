@@ -130,7 +130,9 @@ def test_policy_campaigns_replay(tmp_path, capsys):
     assert main(["verify", GRID, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
                  "--quiet", "--store", str(store)]) == 0
     capsys.readouterr()
-    assert main(["replay", str(store), "--episode", "2"]) == 0
+    assert main(["replay", str(store), "--episode", "2"]) == 2  # the store names a pickle
+    assert f"name it again to trust it: --policy {saved.resolve()}" in capsys.readouterr().err
+    assert main(["replay", str(store), "--episode", "2", "--policy", str(saved)]) == 0
     out = capsys.readouterr().out
     assert "reproduces the stored record" in out and "[node" not in out  # an agent: no nodes
 

@@ -14,8 +14,8 @@ import numpy as np
 
 from vlb_gym.core.files import write_atomic
 
-from .common import (UsageError, add_env_kwarg, check_output, clamp_workers, count, env_kwargs,
-                     env_modules, probability)
+from .common import (UsageError, add_env_kwarg, add_env_module, check_output, clamp_workers,
+                     count, env_kwargs, env_modules, probability)
 
 
 def _policy_ref(args: argparse.Namespace):
@@ -77,7 +77,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
                             stop_on_failure=not args.keep_going,
                             env_modules=env_modules(args.env_module), sequential=args.sequential)
     campaign = Campaign(config)  # checks the env and the policy before any episode
-    inputs = campaign.files
+    inputs = [*campaign.files, *(store_files(args.store) if args.store else [])]
     export = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
               if args.episodes_out else None)
     # a report is replaced without --force: atomically, once the campaign is done
@@ -86,7 +86,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         raise UsageError("--report and --episodes-out name the same file")
     store = None
     if args.store:  # an existing store is resumed: its plan must be this command's
-        store = _open_store(check_output(args.store, [*inputs, report_out, export], True,
+        store = _open_store(check_output(args.store, [*campaign.files, report_out, export], True,
                                          "--store"), campaign)
     workers = clamp_workers(args.workers, episodes, "verify") if args.backend != "ray" else \
         args.workers
@@ -155,8 +155,14 @@ def cmd_report(args: argparse.Namespace) -> int:
         out = Path(args.out)
         if out.exists() and not out.is_dir():
             raise UsageError(f"--out {args.out}: not a directory")
-        check_output(str(out / "report.html"), [args.store], True, "--out")
-        frames = episode_frames(plan, episodes) if args.frames else None
+        check_output(str(out / "report.html"), store_files(args.store), True, "--out")
+        frames = None
+        untrusted = stored_code(plan, args)
+        if args.frames and untrusted:
+            print(f"vlb report: no frames: replaying would run code the store names (name it "
+                  f"again to trust it: {' '.join(untrusted)})", file=sys.stderr)
+        elif args.frames:
+            frames = episode_frames(plan, episodes)
         written = write_report_dir(out, report, [e.to_dict() for e in episodes], plan, frames,
                                    args.store)
         print(f"wrote {', '.join(str(p) for p in written if p.parent == out)}")
@@ -220,6 +226,25 @@ def _print_step(number: int, step: dict[str, Any]) -> None:
     print(f"{number:4d} {mark} {step['primitive']:<10} {step['param']}{node}{extra}")
 
 
+def store_files(path: str | Path) -> list[Path]:
+    """A store and the files SQLite keeps beside it: all inputs no output may overwrite."""
+    return [Path(path), Path(f"{path}-wal"), Path(f"{path}-shm")]
+
+
+def stored_code(plan: dict[str, Any], args: argparse.Namespace) -> list[str]:
+    """The options that would name again what of a stored campaign is code (env modules, a
+    pickled agent) and that the command line does not name: a store is untrusted data, and
+    replaying it must not import or unpickle what only the store names. Other policy kinds are
+    loaded by installed packages, which decide what their references may do."""
+    given = set(env_modules(args.env_module))
+    missing = [f"--env-module {m}" for m in plan["env_modules"] if m not in given]
+    policy = plan["policy"]
+    if policy["kind"] == "sb3" and (not args.policy
+                                    or str(Path(args.policy).resolve()) != policy["ref"]):
+        missing.append(f"--policy {policy['ref']}")
+    return missing
+
+
 def _replay_config(args: argparse.Namespace):
     """The campaign config and reset seed an episode is replayed with, and its stored record
     (None when replaying from a seed on the command line)."""
@@ -236,10 +261,9 @@ def _replay_config(args: argparse.Namespace):
                                 stop_on_failure=not args.keep_going)
         seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
         return config, seed, None
-    if args.behavior or args.policy or args.seed is not None or args.index is not None \
-            or args.env_kwarg or args.env_module:
+    if args.behavior or args.seed is not None or args.index is not None or args.env_kwarg:
         raise UsageError("replay STORE --episode K takes the campaign from the store: no "
-                         "--behavior, --policy, --seed, --index, --env-kwarg or --env-module")
+                         "--behavior, --seed, --index or --env-kwarg")
     store = _read_store(args.target)
     try:
         plan = store.plan()
@@ -252,6 +276,10 @@ def _replay_config(args: argparse.Namespace):
     if stored is None:
         raise UsageError(f"{args.target}: episode {args.episode} is not stored ({count} of "
                          f"{plan['episodes']} episodes are, indices 0 to {plan['episodes'] - 1})")
+    untrusted = stored_code(plan, args)
+    if untrusted:
+        raise UsageError(f"{args.target}: replaying would run code the store names; a store is "
+                         f"data, so name it again to trust it: {' '.join(untrusted)}")
     config = CampaignConfig.from_plan(plan)
     if args.keep_going:
         config = dataclasses.replace(config, stop_on_failure=False)
@@ -262,14 +290,18 @@ def _replay_config(args: argparse.Namespace):
 def cmd_replay(args: argparse.Namespace) -> int:
     from vlb_gym.verify.campaign import build
     from vlb_gym.verify.episode import run_episode
+    from vlb_gym.verify.policies import policy_loader
 
     config, seed, stored = _replay_config(args)
-    if args.render:
-        check_output(args.render, [], True, "--render")
     try:
         env, policy = build(config, "rgb_array" if args.render else None)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    if args.render:
+        inputs = policy_loader(config.policy.kind).files(config.policy, policy)
+        if stored is not None:
+            inputs += store_files(args.target)
+        check_output(args.render, inputs, True, "--render")
     if stored is not None:
         record, digest, loader = stored
         now = loader.content(config.policy, policy)["sha256"]
@@ -419,6 +451,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "against eps, per-episode charts, frames of a failed and a successful episode")
     t.add_argument("--no-frames", dest="frames", action="store_false",
                    help="with --out: no frames (they replay two episodes with rendering)")
+    t.add_argument("--policy", metavar="AGENT.zip",
+                   help="with --out, for the frames of a campaign of a trained agent: the agent "
+                   "the store names, named again to trust it (loading it runs code)")
+    add_env_module(t)
     t.set_defaults(func=cmd_report)
 
     p = sub.add_parser("plan", help="print the number of episodes a guarantee needs",

@@ -13,6 +13,7 @@ list of indices per message) with a bounded number in flight.
 from __future__ import annotations
 
 import collections
+import contextlib
 import logging
 import multiprocessing as mp
 import multiprocessing.connection
@@ -21,6 +22,7 @@ import pickle
 import signal
 import sys
 import tempfile
+import threading
 import traceback
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TypeVar
@@ -341,6 +343,20 @@ def _import_ray() -> Any:
 _DEAD_ACTOR_WAIT = 30.0  # seconds to wait for a dead actor's finished results
 
 
+@contextlib.contextmanager
+def _sigint_held() -> Iterator[None]:
+    """Hold SIGINT back (in the main thread) until the block is done; a Ctrl-C meanwhile is
+    delivered, as KeyboardInterrupt, when it ends."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
 def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: int,
          address: str | None, max_deaths: int) -> Iterator[T]:
     ray = _import_ray()
@@ -348,15 +364,6 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
                                 WorkerCrashedError)
 
     started = False
-    if not ray.is_initialized():
-        options: dict[str, Any] = {"address": address, "include_dashboard": False,
-                                   "log_to_driver": False, "logging_level": logging.ERROR}
-        if address is None:
-            options["num_cpus"] = workers
-        ray.init(**options)
-        started = True
-    actor_class = ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_RayRunner)
-    setup_ref = ray.put(setup)
     todo = chunks(indices, workers)
     deaths: collections.Counter[int] = collections.Counter()
     actors: dict[Any, collections.deque] = {}  # actor -> its (ref, chunk)s, oldest first
@@ -408,6 +415,18 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
         return finished
 
     try:
+        if not ray.is_initialized():
+            options: dict[str, Any] = {"address": address, "include_dashboard": False,
+                                       "log_to_driver": False, "logging_level": logging.ERROR}
+            if address is None:
+                options["num_cpus"] = workers
+            # Ctrl-C during Ray's start-up can leave it half started (seen: lost interrupts,
+            # crashes); it is held back until Ray is up, then stops the campaign as usual
+            with _sigint_held():
+                ray.init(**options)
+                started = True
+        actor_class = ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_RayRunner)
+        setup_ref = ray.put(setup)
         for _ in range(min(workers, len(todo))):
             start()
         while remaining:

@@ -181,7 +181,8 @@ class Campaign:
                                              [f for f in (keep, on_episode) if f])
             return Report.sequential(self.plan, results, test, self.config.episodes,
                                      time.perf_counter() - started, workers, backend,
-                                     None if store is None else str(store.path))
+                                     None if store is None else str(store.path),
+                                     len(results) - len(stored))
         done = {r.index for r in stored}
         todo = [i for i in range(self.config.episodes) if i not in done]
         results = list(stored)
@@ -193,7 +194,7 @@ class Campaign:
                 if on_episode is not None:
                     on_episode(result)
         return Report.fixed_n(self.plan, results, time.perf_counter() - started, workers,
-                              backend, None if store is None else str(store.path))
+                              backend, None if store is None else str(store.path), len(todo))
 
     def _sequential(self, stored: list[EpisodeResult], workers: int, backend: str,
                     ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]

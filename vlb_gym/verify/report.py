@@ -74,9 +74,11 @@ class Report(Mapping[str, Any]):
     # -- building -----------------------------------------------------------------------------
     @classmethod
     def fixed_n(cls, plan: dict[str, Any], results: Sequence[EpisodeResult], seconds: float,
-                workers: int, backend: str = "process", store: str | None = None) -> Report:
+                workers: int, backend: str = "process", store: str | None = None,
+                ran: int | None = None) -> Report:
         """The report of a fixed-N campaign (complete or not: ``episodes`` counts ``results``;
-        ``planned_episodes`` is N)."""
+        ``planned_episodes`` is N); ``ran`` episodes (default: all) took ``seconds``, the
+        others were resumed from a store."""
         results = sorted(results, key=lambda r: r.index)
         n = len(results)
         failures = sum(not r.success for r in results)
@@ -111,7 +113,7 @@ class Report(Mapping[str, Any]):
             "failures_by_cause": failures_by_cause(results),
             "mean_primitives": (sum(r.primitives for r in results) / n) if n else 0.0,
             "wall_seconds": seconds,
-            "episodes_per_second": n / seconds if seconds > 0 else None,
+            "episodes_per_second": (n if ran is None else ran) / seconds if seconds > 0 else None,
             "workers": workers,
             "backend": backend,
             "machine": f"{platform.machine()} {platform.system()}, {mp.cpu_count()} cpus, "
@@ -122,9 +124,10 @@ class Report(Mapping[str, Any]):
     @classmethod
     def sequential(cls, plan: dict[str, Any], results: Sequence[EpisodeResult],
                    test: sequential.SequentialTest, max_episodes: int, seconds: float,
-                   workers: int, backend: str = "process", store: str | None = None) -> Report:
+                   workers: int, backend: str = "process", store: str | None = None,
+                   ran: int | None = None) -> Report:
         """The report of a sequential campaign stopped by ``test`` (or by the cap)."""
-        base = cls.fixed_n(plan, results, seconds, workers, backend)._data
+        base = cls.fixed_n(plan, results, seconds, workers, backend, ran=ran)._data
         eps, delta = plan["epsilon"], plan["delta"]
         low, high = test.bounds()
         decision = test.decision or "undecided"
@@ -143,7 +146,8 @@ class Report(Mapping[str, Any]):
         base.update({
             "mode": "sequential",
             "planned_episodes": max_episodes,
-            "complete": True,
+            # a stored campaign may have been interrupted before its test decided
+            "complete": test.decision is not None or len(results) >= max_episodes,
             "test": sequential.TEST_NAME,
             "prior": list(sequential.prior(eps)),
             "guarantee": sequential.guarantee(eps, delta),
@@ -207,8 +211,9 @@ class Report(Mapping[str, Any]):
         lines = [f"{self['env_id']} / {shown_path(self['behavior'])}: {mode}seed {self['seed']}, "
                  f"{self['workers']} worker(s), {self['wall_seconds']:.1f} s{speed})"]
         if not self["complete"]:
-            lines.append(f"  INCOMPLETE: {self['episodes']} of {self['planned_episodes']} "
-                         "episodes stored; the bounds below are for those (resume with the same "
+            most = "at most " if self["mode"] == "sequential" else ""
+            lines.append(f"  INCOMPLETE: {self['episodes']} of {most}{self['planned_episodes']} "
+                         "episodes stored; the figures below are for those (resume with the same "
                          "vlb verify command and --store)")
         lines.append(f"  successes {self['successes']}/{self['episodes']}, "
                      f"failures {self['failures']}")
@@ -225,6 +230,9 @@ class Report(Mapping[str, Any]):
         elif decision == "refuted":
             lines = [f"  REFUTED after {self['stopped_at']} episodes: P[success] < {p0} at "
                      f"confidence level {level}, valid however often the test looked"]
+        elif not self["complete"]:
+            lines = [f"  UNDECIDED so far, after {self['episodes']} episodes: the campaign was "
+                     "interrupted; nothing is certified"]
         else:
             lines = [f"  UNDECIDED after {self['episodes']} episodes (the cap, --max-episodes): "
                      f"neither P[success] >= {p0} nor its negation is established; nothing is "

@@ -15,7 +15,9 @@ import json
 import os
 import sqlite3
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from .episode import STEP_KEYS, EpisodeResult
 
@@ -59,16 +61,20 @@ class CampaignStore:
                             "record TEXT NOT NULL)")
 
     def _check_foreign(self) -> None:
-        """Refuse a file that is not a readable vlb-gym store, opening it read-only."""
+        """Refuse a file that is not an intact vlb-gym store, opening it read-only."""
         try:
             with sqlite3.connect(f"file:{self.path}?mode=ro", uri=True) as probe:
                 (app,) = probe.execute("PRAGMA application_id").fetchone()
-                tables = {row[0] for row in probe.execute(
-                    "SELECT name FROM sqlite_master WHERE type = 'table'")}
+                columns = {table: [row[1] for row in probe.execute(
+                    f"PRAGMA table_info({table})")] for table in ("plan", "episodes")}
+                (check,) = probe.execute("PRAGMA quick_check(1)").fetchone() \
+                    if app == APPLICATION_ID else ("ok",)
         except sqlite3.DatabaseError as exc:
             raise StoreError(f"{self.path}: not a vlb-gym campaign store ({exc})") from None
-        if app != APPLICATION_ID or not {"plan", "episodes"} <= tables:
+        if app != APPLICATION_ID or columns != _COLUMNS:
             raise StoreError(f"{self.path}: not a vlb-gym campaign store")
+        if check != "ok":
+            raise StoreError(f"{self.path}: the campaign store is damaged ({check})")
 
     def _exclusive(self) -> int:
         """An exclusive lock on the store for this process (released when it ends, however):
@@ -86,14 +92,30 @@ class CampaignStore:
         if self._lock is not None:
             os.close(self._lock)
 
+    def _rows(self, query: str, *args: Any) -> list[tuple[Any, ...]]:
+        try:
+            return self.db.execute(query, args).fetchall()
+        except sqlite3.DatabaseError as exc:
+            raise StoreError(f"{self.path}: the campaign store is damaged ({exc})") from None
+
     def plan(self) -> dict[str, Any] | None:
-        row = self.db.execute("SELECT plan FROM plan WHERE id = 1").fetchone()
-        return None if row is None else json.loads(row[0])
+        """The stored plan, checked (StoreError if it is not one vlb-gym writes)."""
+        rows = self._rows("SELECT plan FROM plan WHERE id = 1")
+        if not rows:
+            return None
+        try:
+            return StoredPlan.model_validate_json(rows[0][0]).model_dump()
+        except ValidationError as exc:
+            raise StoreError(f"{self.path}: the stored plan is not valid "
+                             f"({_first_error(exc)})") from None
 
     def start(self, plan: dict[str, Any]) -> None:
         """Record ``plan``, or check that the store holds the same one (naming what differs)."""
         stored = self.plan()
         if stored is None:
+            if self._rows("SELECT idx FROM episodes LIMIT 1"):
+                raise StoreError(f"{self.path}: the store holds episodes but no plan: it is "
+                                 "damaged, and no campaign can continue it")
             self.db.execute("INSERT INTO plan (id, plan) VALUES (1, ?)", (json.dumps(plan),))
             return
         differ = sorted(k for k in stored.keys() | plan.keys() if stored.get(k) != plan.get(k))
@@ -104,7 +126,7 @@ class CampaignStore:
 
     def done(self) -> set[int]:
         """Indices of the episodes stored."""
-        return {row[0] for row in self.db.execute("SELECT idx FROM episodes")}
+        return {row[0] for row in self._rows("SELECT idx FROM episodes")}
 
     def add(self, result: EpisodeResult) -> None:
         """Store one finished episode (its own transaction: durable once this returns)."""
@@ -113,13 +135,28 @@ class CampaignStore:
 
     def results(self) -> list[EpisodeResult]:
         """The stored episodes, in index order."""
-        rows = self.db.execute("SELECT record FROM episodes ORDER BY idx")
-        return [_decode(row[0]) for row in rows]
+        rows = self._rows("SELECT idx, record FROM episodes ORDER BY idx")
+        return [self._decode(index, record) for index, record in rows]
 
     def result(self, index: int) -> EpisodeResult | None:
         """Stored episode ``index``, if it is stored."""
-        row = self.db.execute("SELECT record FROM episodes WHERE idx = ?", (index,)).fetchone()
-        return None if row is None else _decode(row[0])
+        rows = self._rows("SELECT idx, record FROM episodes WHERE idx = ?", index)
+        return self._decode(*rows[0]) if rows else None
+
+    def _decode(self, index: Any, text: Any) -> EpisodeResult:
+        """A stored record, checked (StoreError naming the episode if it is not one vlb-gym
+        writes)."""
+        try:
+            record = StoredEpisode.model_validate_json(text).model_dump()
+        except (ValidationError, TypeError) as exc:
+            message = _first_error(exc) if isinstance(exc, ValidationError) else exc
+            raise StoreError(f"{self.path}: stored episode {index} is not valid "
+                             f"({message})") from None
+        if record["index"] != index:
+            raise StoreError(f"{self.path}: stored episode {index} says it is episode "
+                             f"{record['index']}")
+        record["steps"] = [dict(zip(STEP_KEYS, step)) for step in record["steps"]]
+        return EpisodeResult.from_dict(record)
 
 
 def _encode(result: EpisodeResult) -> str:
@@ -130,7 +167,58 @@ def _encode(result: EpisodeResult) -> str:
     return json.dumps(record, separators=(",", ":"))
 
 
-def _decode(text: str) -> EpisodeResult:
-    record = json.loads(text)
-    record["steps"] = [dict(zip(STEP_KEYS, step)) for step in record.get("steps", ())]
-    return EpisodeResult.from_dict(record)
+_COLUMNS = {"plan": ["id", "plan"], "episodes": ["idx", "record"]}
+_STRICT = ConfigDict(strict=True, extra="forbid")
+Probability = Annotated[float, Field(gt=0, lt=1)]
+Count = Annotated[int, Field(ge=0)]
+
+
+class StoredPolicy(BaseModel):
+    model_config = _STRICT
+    kind: str
+    ref: str
+    library: str | None
+
+
+class StoredPlan(BaseModel):
+    """The plan as a store holds it (what :class:`~.campaign.Campaign` makes)."""
+
+    model_config = _STRICT
+    env_id: str
+    policy: StoredPolicy
+    episodes: Annotated[int, Field(ge=1)]
+    epsilon: Probability
+    delta: Probability
+    seed: Count
+    env_kwargs: dict[str, Any]
+    stop_on_failure: bool
+    env_modules: list[str]
+    sequential: bool
+    content_sha256: str
+    policy_content: dict[str, Any]
+    sampling_distribution: str
+    versions: dict[str, str]
+
+
+class StoredEpisode(BaseModel):
+    """An episode's record as a store holds it (steps as lists of :data:`STEP_KEYS` values)."""
+
+    model_config = _STRICT
+    index: Count
+    seed: Count
+    rho: Literal[-1, 1]
+    finished: bool
+    primitives: Count
+    failed_certificates: Count
+    reason: str | None
+    seconds: Annotated[float, Field(ge=0)]
+    cause: str | None
+    steps: list[tuple[str, str | None, Any, bool, str | None, str | None]]
+    start: dict[str, Any]
+    error: str | None
+
+
+def _first_error(exc: ValidationError) -> str:
+    error = exc.errors()[0]
+    where = ".".join(str(part) for part in error["loc"]) or "the record"
+    return f"{where}: {error['msg']}"
