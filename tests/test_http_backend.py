@@ -17,18 +17,11 @@ from vlb_gym.abstractor.backends import (BackendError, OpenAICompatibleBackend, 
                                          TranscriptBackend, request_rejected)
 from vlb_gym.core.files import MAX_FILE_BYTES
 
-from .chat_server import ChatServer
+from .chat_server import LLAMA_CPP_VALIDATION_500, ChatServer
 
 pytestmark = pytest.mark.timeout(30)
 
 MESSAGES = [{"role": "user", "content": "hi"}]
-
-# what llama-cpp-python's server answers to a response_format it does not support
-LLAMA_CPP_VALIDATION_500 = json.dumps({"error": {"message": (
-    "[{'type': 'literal_error', 'loc': ('body', 'response_format', 'type'), 'msg': \"Input "
-    "should be 'text' or 'json_object'\", 'input': 'json_schema', 'ctx': {'expected': \"'text' "
-    "or 'json_object'\"}}]"), "type": "internal_server_error"}}).encode()
-
 
 def backend(server: ChatServer, **kwargs) -> OpenAICompatibleBackend:
     kwargs.setdefault("timeout", 5.0)
@@ -50,6 +43,20 @@ def test_redirect_to_another_origin_is_not_followed_and_the_key_stays_home(monke
     message = str(err.value)
     assert f"HTTP 302 redirect to {other.origin} not followed" in message
     assert "sk-secret" not in message
+
+
+@pytest.mark.parametrize("dialect", ["auto", "ollama"])
+def test_probes_and_native_calls_follow_no_redirect_either(dialect, monkeypatch):
+    monkeypatch.setenv("TEST_KEY", "sk-secret")
+    with ChatServer([("reply", "stolen")]) as other:
+        with ChatServer([("redirect", other.url + "/chat/completions")] * 4) as server:
+            chat = backend(server, api_key_env="TEST_KEY", max_retries=3,
+                           structured_output=dialect)
+            with pytest.raises(BackendError) as err:
+                chat.complete(MESSAGES)
+    assert other.headers == [] and len(server.headers) == 1
+    assert server.paths == ["/api/chat" if dialect == "ollama" else "/v1/chat/completions"]
+    assert "not followed" in str(err.value) and "sk-secret" not in str(err.value)
 
 
 def test_redirect_within_the_origin_is_not_followed_either():

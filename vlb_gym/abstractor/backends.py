@@ -3,7 +3,8 @@
 A backend turns a list of chat messages into one reply string. Three ship:
 
 * :class:`OpenAICompatibleBackend` -- the chat-completions protocol over HTTP (httpx), as served by
-  hosted APIs and by local servers (vLLM, Ollama, llama.cpp); it treats the server as untrusted:
+  hosted APIs and by local servers (vLLM, Ollama, llama.cpp), with structured output in each
+  server's dialect (:data:`DIALECTS`, or ``"auto"``: probed once); it treats the server as untrusted:
   no redirect is followed (the API key goes to the configured origin only), each attempt has a
   total deadline, replies are size-capped, and requests the server rejects are not sent again;
 * :class:`ScriptedBackend` -- canned replies, in order (tests, demos, offline use);
@@ -27,7 +28,48 @@ import httpx
 from vlb_gym.core.files import InputFileError, load_json, read_limited
 
 Message = dict[str, str]
-StructuredOutput = Literal["json_schema", "json_object", "none"]
+Dialect = Literal["openai", "vllm", "ollama", "llamacpp", "json_object", "none"]
+StructuredOutput = Literal["auto", "openai", "json_schema", "vllm", "ollama", "llamacpp",
+                           "json_object", "none"]
+
+DIALECTS: dict[str, str] = {
+    "openai": "response_format json_schema",
+    "llamacpp": "json_object + schema",
+    "vllm": "guided_json",
+    "ollama": "native /api/chat, format: schema",
+    "json_object": "JSON mode, no schema",
+    "none": "no constraint"}
+"""The request shapes of structured output, each with what it sends:
+
+* ``openai``: ``response_format: {"type": "json_schema", "json_schema": {"name", "schema",
+  "strict": false}}`` (OpenAI; vLLM's OpenAI server; recent llama.cpp and Ollama ``/v1``);
+* ``llamacpp``: ``response_format: {"type": "json_object", "schema": SCHEMA}`` (llama.cpp's
+  server and llama-cpp-python's server, which answer ``json_schema`` with an error);
+* ``vllm``: ``guided_json: SCHEMA`` in the body (vLLM's extra parameter, older versions too);
+* ``ollama``: Ollama's native ``POST {origin}/api/chat`` with ``format: SCHEMA`` (its ``/v1``
+  endpoint took no schema before version 0.5); a base URL ending in ``/v1`` loses it there;
+* ``json_object``: ``response_format: {"type": "json_object"}``, JSON without a schema;
+* ``none``: nothing (the prompt still carries the schema).
+"""
+AUTO_ORDER: tuple[str, ...] = ("openai", "llamacpp", "vllm", "ollama", "json_object", "none")
+"""The order in which ``structured_output="auto"`` probes the dialects (see
+:meth:`OpenAICompatibleBackend.probe`)."""
+ALIASES = {"json_schema": "openai"}
+"""Older names of dialects, still accepted."""
+
+PROBE_SCHEMA: dict[str, Any] = {
+    "type": "object",
+    "properties": {"ok": {"type": "boolean"}, "probe": {"enum": ["vlb"]}},
+    "required": ["ok", "probe"], "additionalProperties": False}
+"""The probe's schema. The probe asks for ``{"ok": true}`` only: a server that enforces the
+schema makes the model add ``"probe": "vlb"``; a server that ignores it gets ``{"ok": true}``
+(or free text) from an obliging model, which does not match, so the next dialect is tried."""
+PROBE_MESSAGES: list[Message] = [{"role": "user", "content": (
+    'This is a connection test. Reply with the JSON object {"ok": true} and nothing else.')}]
+PROBE_MAX_TOKENS = 32
+OLLAMA_NUM_CTX = 8192
+"""Context window asked of Ollama (its default, 2,048 or 4,096 tokens, would silently cut the
+behavior prompt)."""
 
 MAX_REPLY_BYTES = 2_000_000
 """Default cap on the body of one HTTP reply; a larger reply fails (and is not read further)."""
@@ -41,7 +83,14 @@ VALIDATION_MARKERS = ("validation", "literal_error", "input should be", "'loc'",
 
 
 class BackendError(RuntimeError):
-    """The backend could not produce a reply (after its retries); the message says why."""
+    """The backend could not produce a reply (after its retries); the message says why.
+
+    ``status`` and ``body`` are the HTTP status and body of the last reply when that was an HTTP
+    error (else None and ``""``)."""
+
+    def __init__(self, message: str, status: int | None = None, body: str = ""):
+        super().__init__(message)
+        self.status, self.body = status, body
 
 
 class ChatBackend(Protocol):
@@ -70,6 +119,43 @@ def request_rejected(status: int, body: str) -> bool:
     return status == 500 and any(marker in body.lower() for marker in VALIDATION_MARKERS)
 
 
+def shape_rejected(status: int, body: str, dialect: str) -> bool:
+    """Whether an HTTP error answering a probe in ``dialect`` is a clear rejection of that
+    request shape, so that :meth:`OpenAICompatibleBackend.probe` moves on to the next dialect:
+    HTTP 400 or 422, an HTTP 500 that reads as a request-validation error (see
+    :func:`request_rejected`; llama-cpp-python's answer to ``json_schema``), and for ``ollama``
+    also 404, 405 and a 200 that is not an Ollama reply (no native endpoint there). Other errors (401, 403, 404, 429, 5xx, ...) say
+    nothing about the shape and end the probe."""
+    if status in (400, 422):
+        return True
+    if dialect == "ollama" and status in (200, 404, 405):
+        return True  # no native endpoint there (a 200 that is no Ollama reply: see _content)
+    return status == 500 and request_rejected(status, body)
+
+
+def probe_reply_ok(reply: str, dialect: str) -> bool:
+    """Whether the reply to a probe shows that ``dialect`` was honoured: for ``json_object`` a
+    JSON object, for the schema dialects a document of :data:`PROBE_SCHEMA` exactly, for
+    ``none`` anything."""
+    if dialect == "none":
+        return True
+    try:
+        data = json.loads(reply)
+    except ValueError:
+        return False
+    if not isinstance(data, dict):
+        return False
+    if dialect == "json_object":
+        return True
+    return (set(data) == {"ok", "probe"} and isinstance(data["ok"], bool)
+            and data["probe"] == "vlb")
+
+
+def dialect_label(dialect: str) -> str:
+    """``dialect (what it sends)``, e.g. ``llamacpp (json_object + schema)``."""
+    return f"{dialect} ({DIALECTS[dialect]})"
+
+
 def server_message(body: str) -> str:
     """What an error reply says, on one line and at most :data:`MAX_DETAIL_CHARS` characters:
     the ``error.message`` (or ``error``) of an OpenAI-style JSON body, else the body itself."""
@@ -89,9 +175,10 @@ def server_message(body: str) -> str:
 class _Failure(Exception):
     """One attempt failed; ``retry`` says whether another attempt might succeed."""
 
-    def __init__(self, problem: str, retry: bool):
+    def __init__(self, problem: str, retry: bool, status: int | None = None, body: str = ""):
         super().__init__(problem)
         self.problem, self.retry = problem, retry
+        self.status, self.body = status, body
 
 
 class _Deadline:
@@ -142,11 +229,12 @@ class _Deadline:
 class OpenAICompatibleBackend:
     """Chat completions over HTTP (``POST {base_url}/chat/completions``), with httpx.
 
-    ``structured_output`` chooses what goes with the request: ``"json_schema"`` sends the
-    behavior schema as ``response_format`` (OpenAI, vLLM, recent llama.cpp and Ollama),
-    ``"json_object"`` asks only for JSON, ``"none"`` sends nothing (the prompt still carries the
-    schema). The API key is read from the environment variable ``api_key_env``; it is never part
-    of an error message or of ``name``, and a base URL with credentials in it is refused.
+    ``structured_output`` is the dialect of structured output (see :data:`DIALECTS`; the
+    ``ollama`` dialect talks to Ollama's native ``/api/chat`` instead), ``"json_schema"`` being
+    an alias of ``"openai"``; ``"auto"`` finds it with :meth:`probe` before the first request and
+    keeps it (``dialect``; ``probe_log`` says what each probe got). The API key is read from the
+    environment variable ``api_key_env``; it is never part of an error message or of ``name``,
+    and a base URL with credentials in it is refused.
 
     What the server can and cannot do to the client:
 
@@ -165,7 +253,7 @@ class OpenAICompatibleBackend:
 
     def __init__(self, base_url: str, model: str, api_key_env: str = "OPENAI_API_KEY",
                  timeout: float = 60.0, max_retries: int = 3, backoff: float = 1.0,
-                 structured_output: StructuredOutput = "json_schema", temperature: float = 0.0,
+                 structured_output: StructuredOutput = "openai", temperature: float = 0.0,
                  max_reply_bytes: int = MAX_REPLY_BYTES, max_reply_chars: int = MAX_REPLY_CHARS):
         try:
             url = httpx.URL(base_url)
@@ -177,51 +265,123 @@ class OpenAICompatibleBackend:
         if url.userinfo:
             raise ValueError("the base URL must not carry credentials (user:password@); the API "
                              "key comes from the environment variable named by api_key_env")
-        if structured_output not in ("json_schema", "json_object", "none"):
-            raise ValueError(f"structured_output must be json_schema, json_object or none "
-                             f"(got {structured_output!r})")
+        structured_output = ALIASES.get(structured_output, structured_output)
+        if structured_output != "auto" and structured_output not in DIALECTS:
+            raise ValueError(f"structured_output must be auto, {', '.join(DIALECTS)} or "
+                             f"json_schema (got {structured_output!r})")
         if timeout <= 0 or max_retries < 0 or max_reply_bytes < 1 or max_reply_chars < 1:
             raise ValueError("timeout and the reply limits must be positive, max_retries at "
                              "least 0")
-        self.url = base_url.rstrip("/") + "/chat/completions"
+        base = base_url.rstrip("/")
+        self.url = base + "/chat/completions"
+        self.native_url = base.removesuffix("/v1") + "/api/chat"
         self.model = model
         self.api_key = os.environ.get(api_key_env) if api_key_env else None
         self.timeout, self.max_retries, self.backoff = timeout, max_retries, backoff
         self.structured_output = structured_output
+        self.probe_log: list[dict[str, str]] = []
+        self._dialect = None if structured_output == "auto" else structured_output
         self.temperature = temperature
         self.max_reply_bytes, self.max_reply_chars = max_reply_bytes, max_reply_chars
         self.name = f"{model} at {base_url}"
 
-    def _body(self, messages: Sequence[Message], schema: dict[str, Any] | None) -> bytes:
-        body: dict[str, Any] = {"model": self.model, "messages": list(messages),
-                                "temperature": self.temperature}
-        if schema is not None and self.structured_output == "json_schema":
+    @property
+    def dialect(self) -> str | None:
+        """The dialect in use; None while ``"auto"`` has not probed yet."""
+        return self._dialect
+
+    def _body(self, dialect: str, messages: Sequence[Message], schema: dict[str, Any] | None,
+              max_tokens: int | None = None, strict: bool = False) -> bytes:
+        if dialect == "ollama":
+            options: dict[str, Any] = {"temperature": self.temperature, "num_ctx": OLLAMA_NUM_CTX}
+            if max_tokens is not None:
+                options["num_predict"] = max_tokens
+            body: dict[str, Any] = {"model": self.model, "messages": list(messages),
+                                    "stream": False, "options": options}
+            if schema is not None:
+                body["format"] = schema
+            return json.dumps(body).encode()
+        body = {"model": self.model, "messages": list(messages), "temperature": self.temperature}
+        if max_tokens is not None:
+            body["max_tokens"] = max_tokens
+        if dialect == "openai" and schema is not None:
             body["response_format"] = {"type": "json_schema", "json_schema": {
-                "name": "behavior", "schema": schema, "strict": False}}
-        elif self.structured_output == "json_object":
+                "name": "behavior" if not strict else "probe", "schema": schema,
+                "strict": strict}}
+        elif dialect == "llamacpp":
+            body["response_format"] = {"type": "json_object"}
+            if schema is not None:
+                body["response_format"]["schema"] = schema
+        elif dialect == "vllm" and schema is not None:
+            body["guided_json"] = schema
+        elif dialect == "json_object":
             body["response_format"] = {"type": "json_object"}
         return json.dumps(body).encode()
 
     def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
-        body = self._body(messages, schema)
-        problems = []
+        dialect = self.probe()
+        return self._request(dialect, self._body(dialect, messages, schema))
+
+    def probe(self) -> str:
+        """The dialect to use; for ``"auto"``, found once (then kept) by sending a tiny request
+        (:data:`PROBE_MESSAGES`, at most :data:`PROBE_MAX_TOKENS` tokens, :data:`PROBE_SCHEMA`)
+        in each dialect of :data:`AUTO_ORDER` until one is honoured.
+
+        A dialect is passed over when the server clearly rejects its shape (see
+        :func:`shape_rejected`; such a request is never sent again) or answers with a reply that
+        shows it was ignored (see :func:`probe_reply_ok`): vLLM, for one, ignores fields it does
+        not know. Any other failure -- a timeout, a refused connection, HTTP 401 -- is a
+        :class:`BackendError` naming the dialect being probed, not a reason to fall back.
+        """
+        if self._dialect is not None:
+            return self._dialect
+        for dialect in AUTO_ORDER:
+            strict = dialect == "openai"  # the probe schema is strict-ready: OpenAI enforces it
+            body = self._body(dialect, PROBE_MESSAGES, PROBE_SCHEMA, PROBE_MAX_TOKENS, strict)
+            try:
+                reply = self._request(dialect, body)
+            except BackendError as exc:
+                if exc.status is not None and shape_rejected(exc.status, exc.body, dialect):
+                    self.probe_log.append({"dialect": dialect, "outcome": f"rejected: {exc}"})
+                    continue
+                raise BackendError(f"structured output probe ({dialect}): {exc}", exc.status,
+                                   exc.body) from None
+            if probe_reply_ok(reply, dialect):
+                self.probe_log.append({"dialect": dialect, "outcome": "used"})
+                self._dialect = dialect
+                return dialect
+            shown = " ".join(reply.split())[:80]
+            self.probe_log.append({"dialect": dialect,
+                                   "outcome": f"ignored: the reply did not follow the probe "
+                                              f"schema: {shown!r}"})
+        raise BackendError(f"{self.url}: structured output probe: the server rejected every "
+                           f"request shape ({', '.join(AUTO_ORDER)}); last: "
+                           f"{self.probe_log[-1]['outcome']}")
+
+    def _request(self, dialect: str, body: bytes) -> str:
+        """One request in ``dialect``, retried as the class says; its reply text."""
+        url = self.native_url if dialect == "ollama" else self.url
+        problems: list[_Failure] = []
         for attempt in range(self.max_retries + 1):
             if attempt:
                 time.sleep(self.backoff * 2 ** (attempt - 1) * (1 + random.random() / 4))
             try:
-                return self._attempt(body)
+                return self._attempt(url, body, dialect)
             except _Failure as failure:
-                problems.append(failure.problem)
+                problems.append(failure)
                 if not failure.retry:
                     break
-        problem = problems[-1].replace(self.api_key, "[API key]") if self.api_key \
-            else problems[-1]
+        last = problems[-1]
+        problem, body = last.problem, last.body
+        if self.api_key:
+            problem, body = (problem.replace(self.api_key, "[API key]"),
+                             body.replace(self.api_key, "[API key]"))
         if len(problems) == 1:
-            raise BackendError(f"{self.url}: {problem}")
-        raise BackendError(f"{self.url}: no reply after {len(problems)} attempt(s); last: "
-                           f"{problem}")
+            raise BackendError(f"{url}: {problem}", last.status, body)
+        raise BackendError(f"{url}: no reply after {len(problems)} attempt(s); last: "
+                           f"{problem}", last.status, body)
 
-    def _attempt(self, body: bytes) -> str:
+    def _attempt(self, url: str, body: bytes, dialect: str) -> str:
         """One request; raises :class:`_Failure` saying what went wrong and if a retry may help."""
         headers = {"Content-Type": "application/json", "Accept": "application/json",
                    "Accept-Encoding": "identity"}  # the size cap counts the bytes as sent
@@ -233,7 +393,7 @@ class OpenAICompatibleBackend:
         deadline = _Deadline(self.timeout)
         try:
             with httpx.Client(follow_redirects=False, timeout=self.timeout) as client, deadline, \
-                    client.stream("POST", self.url, content=body, headers=headers,
+                    client.stream("POST", url, content=body, headers=headers,
                                   extensions={"trace": deadline.trace}) as response:
                 if 300 <= response.status_code < 400:
                     raise _Failure(self._redirect_problem(response), retry=False)
@@ -261,8 +421,9 @@ class OpenAICompatibleBackend:
         if not response.is_success:
             text = payload.decode(errors="replace")
             raise _Failure(f"HTTP {response.status_code}: {server_message(text)}",
-                           retry=not request_rejected(response.status_code, text))
-        return self._content(bytes(payload))
+                           retry=not request_rejected(response.status_code, text),
+                           status=response.status_code, body=text)
+        return self._content(bytes(payload), url, dialect)
 
     def _redirect_problem(self, response: httpx.Response) -> str:
         location = response.headers.get("Location")
@@ -274,12 +435,16 @@ class OpenAICompatibleBackend:
         return (f"HTTP {response.status_code} redirect {where} not followed (requests and the "
                 f"API key go only to the base URL's origin); use the final address as base URL")
 
-    def _content(self, payload: bytes) -> str:
+    def _content(self, payload: bytes, url: str, dialect: str) -> str:
         try:
-            content = load_json(payload, self.url)["choices"][0]["message"]["content"]
+            data = load_json(payload, url)
+            content = data["message"]["content"] if dialect == "ollama" \
+                else data["choices"][0]["message"]["content"]
         except (ValueError, KeyError, IndexError, TypeError):
-            raise _Failure(f"the response is not a chat completion: {payload[:200]!r}",
-                           retry=False) from None
+            what = "an Ollama chat reply" if dialect == "ollama" else "a chat completion"
+            raise _Failure(f"the response is not {what}: {payload[:200]!r}", retry=False,
+                           status=200, body=payload[:MAX_DETAIL_CHARS].decode(errors="replace")
+                           ) from None
         if not isinstance(content, str):
             raise _Failure("the reply has no text content", retry=False)
         if len(content) > self.max_reply_chars:

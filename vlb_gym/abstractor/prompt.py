@@ -2,8 +2,9 @@
 
 The templates are versioned files in ``prompts/<version>/``; the primitive list, the helper
 signatures and the behavior library are generated from the live environment and library, never
-hand-copied. :func:`request_schema` is the behavior schema with this request's primitive and
-behavior names as enums, for backends that enforce structured output.
+hand-copied. :func:`request_schema` is the grammar-friendly behavior schema of
+:mod:`vlb_gym.abstractor.grammar` with this request's primitive and behavior names as enums, for
+backends that enforce structured output (and shown in the prompt).
 """
 
 from __future__ import annotations
@@ -19,9 +20,10 @@ import gymnasium as gym
 
 from vlb_gym.core.expressions import BUILTINS
 from vlb_gym.core.library import BehaviorLibrary
-from vlb_gym.core.spec import BehaviorSpecError, json_schema
+from vlb_gym.core.spec import BehaviorSpecError
 
 from .backends import Message
+from .grammar import grammar_schema
 
 PROMPT_VERSION = "v1"
 
@@ -69,16 +71,10 @@ class PromptContext:
 
 
 def request_schema(context: PromptContext) -> dict[str, Any]:
-    """The behavior schema with this request's primitive and behavior names as enums."""
-    schema = json_schema()
-    node = schema["$defs"]["Node"]["properties"]
-    node["primitive"] = {"anyOf": [{"enum": sorted(context.primitives)}, {"type": "null"}],
-                         "default": None}
-    names = [b["name"] for b in context.behaviors]
-    node["behavior"] = ({"anyOf": [{"enum": names}, {"type": "null"}], "default": None}
-                        if names else {"type": "null", "default": None})
-    schema["properties"]["env"] = {"const": context.env_id}
-    return schema
+    """The request schema (see :mod:`vlb_gym.abstractor.grammar`) for this context: its env, its
+    primitives and its library behaviors as enums."""
+    return grammar_schema(context.env_id, context.primitives,
+                          [b["name"] for b in context.behaviors])
 
 
 def build_messages(description: str, context: PromptContext, info: str = "",

@@ -68,10 +68,12 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
         try:
             reply = backend.complete(messages, schema)
         except BackendError as exc:
+            _note_structured_output(transcript, backend)
             transcript["rounds"].append({"round": round_number, "reply": None,
                                          "error": str(exc), "layer": "backend"})
             cause = (f"{error} (the {error.layer} check); then " if error is not None else "")
             raise SynthesisError(f"{cause}the language model failed: {exc}", transcript) from None
+        _note_structured_output(transcript, backend)
         record = {"round": round_number, "reply": reply, "error": None, "layer": None}
         transcript["rounds"].append(record)
         try:
@@ -86,6 +88,16 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
         return Synthesis(compiled, transcript)
     raise SynthesisError(f"no valid behavior after {max_rounds} round(s); the last reply failed "
                          f"the {error.layer} check: {error}", transcript)
+
+
+def _note_structured_output(transcript: dict[str, Any], backend: ChatBackend) -> None:
+    """Record the structured-output dialect an HTTP backend used (and, if it probed, what each
+    probe got)."""
+    dialect = getattr(backend, "dialect", None)
+    if dialect is not None:
+        transcript["structured_output"] = dialect
+        if getattr(backend, "probe_log", None):
+            transcript["structured_output_probe"] = list(backend.probe_log)
 
 
 def save(synthesis: Synthesis, library: BehaviorLibrary, out: Path | None = None,

@@ -185,12 +185,19 @@ def add_env_kwarg(p: argparse.ArgumentParser) -> None:
 
 def add_model_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--base-url", help="OpenAI-compatible server, e.g. "
-                   "https://api.openai.com/v1 or http://127.0.0.1:11434/v1 (Ollama)")
+                   "https://api.openai.com/v1 or http://127.0.0.1:11434/v1 (Ollama; the ollama "
+                   "dialect calls its /api/chat)")
     p.add_argument("--model", help="model name at that server")
     p.add_argument("--api-key-env", default="OPENAI_API_KEY", metavar="NAME",
                    help="environment variable holding the API key")
-    p.add_argument("--structured-output", choices=["json_schema", "json_object", "none"],
-                   default="json_schema", help="what the server supports")
+    p.add_argument("--structured-output", default="openai", metavar="DIALECT",
+                   choices=["auto", "openai", "llamacpp", "vllm", "ollama", "json_object", "none",
+                            "json_schema"],
+                   help="how the schema goes with the request: openai (response_format "
+                   "json_schema; alias json_schema), llamacpp (json_object + schema: llama.cpp, "
+                   "llama-cpp-python), vllm (guided_json), ollama (Ollama's native /api/chat "
+                   "with format), json_object (JSON, no schema), none; auto probes the server "
+                   "once, in that order, and says which it uses")
     p.add_argument("--timeout", type=seconds, default=60.0, metavar="SECONDS",
                    help="seconds per request")
     p.add_argument("--retries", type=count(0), default=3, metavar="N", help="retries per request")

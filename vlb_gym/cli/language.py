@@ -47,6 +47,20 @@ def backend_from_args(args: argparse.Namespace) -> ChatBackend:
         raise UsageError(str(exc)) from None
 
 
+def announce_structured_output(backend: ChatBackend, command: str) -> None:
+    """With ``--structured-output auto``, probe the server now (a failure is a usage error, exit
+    2) and say on stderr which dialect it speaks."""
+    from vlb_gym.abstractor.backends import BackendError, OpenAICompatibleBackend, dialect_label
+
+    if not isinstance(backend, OpenAICompatibleBackend) or backend.structured_output != "auto":
+        return
+    try:
+        dialect = backend.probe()
+    except BackendError as exc:
+        raise UsageError(str(exc)) from None
+    print(f"vlb {command}: structured output: {dialect_label(dialect)}", file=sys.stderr)
+
+
 def cmd_synthesize(args: argparse.Namespace) -> int:
     from vlb_gym.abstractor.synthesize import SynthesisError, save, save_transcript, synthesize
     from vlb_gym.core.library import BehaviorLibrary
@@ -66,6 +80,7 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
             info = read_limited(args.info, what="--info file").decode()
         except UnicodeDecodeError:
             raise UsageError(f"--info {args.info}: not UTF-8 text") from None
+    announce_structured_output(backend, "synthesize")
     try:
         result = synthesize(args.env_id, args.description, backend, library, info,
                             tuple(args.uses), args.name, args.max_rounds)
@@ -98,6 +113,8 @@ def cmd_scoop_setup(args: argparse.Namespace) -> int:
     from vlb_gym.core.library import BehaviorLibrary
 
     backend = backend_from_args(args) if (args.base_url or args.scripted) else None
+    if backend is not None:
+        announce_structured_output(backend, "scoop-setup")
     env = gym.make("VLB-Scoop-v0").unwrapped
     env.reset(seed=args.seed)
     session = ScoopSetup(env, Path(args.images), backend)

@@ -1,0 +1,121 @@
+"""The schema sent with a request: a behavior schema that grammar compilers accept.
+
+Servers that enforce structured output (llama.cpp and llama-cpp-python, Ollama, vLLM's
+xgrammar/outlines, OpenAI) compile the schema into a grammar. The validation schema
+(``vlb_gym/schema/behavior.schema.json``) is not fit for that: ``maxLength: 2000`` on every
+expression string becomes a repetition of 2,000 in the grammar, enough to make llama.cpp give up
+("number of rules that are going to be repeated multiplied by the new repetition exceeds sane
+defaults"), and ``maxItems: 1024`` or ``patternProperties`` fare no better. So the request
+schema keeps the shape of a behavior document and drops the limits:
+
+* the top level is fixed: ``name``, ``description``, ``env`` (a constant), ``nodes``, ``edges``,
+  ``start`` and ``terminals`` are required, ``variables`` and ``functions`` optional; every object
+  of fixed shape has ``additionalProperties: false`` (grammar compilers write required
+  properties first, in this order, then the optional ones);
+* primitive names and library behavior names are enums, as the env and the library are known
+  when the request is made;
+* expression strings have no ``maxLength`` and no list has a ``maxItems`` above 8; names keep
+  their pattern (no length);
+* maps (``variables``, ``functions``, an edge's ``set``) are ``additionalProperties: SCHEMA``
+  rather than ``patternProperties``.
+
+The full validation (lengths, counts, references, the graph, expressions, a dry run) stays in
+:mod:`vlb_gym.abstractor.validate`; this schema only keeps a constrained decoder on the right
+shape.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+import gymnasium as gym
+
+NAME_PATTERN = "^[A-Za-z][A-Za-z0-9_]*$"
+MAX_STRING_LENGTH = 200
+"""No string in the request schema may declare a ``maxLength`` above this (none does today)."""
+
+
+def _name() -> dict[str, Any]:
+    return {"type": "string", "pattern": NAME_PATTERN}
+
+
+def _expression() -> dict[str, Any]:
+    return {"type": "string", "minLength": 1}
+
+
+def _text() -> dict[str, Any]:
+    return {"type": "string"}
+
+
+def _optional(schema: dict[str, Any]) -> dict[str, Any]:
+    return {"anyOf": [schema, {"type": "null"}]}
+
+
+def grammar_schema(env_id: str, primitives: Iterable[str], behaviors: Iterable[str] = ()
+                   ) -> dict[str, Any]:
+    """The request schema for behaviors of ``env_id`` over ``primitives`` that may use the
+    library behaviors ``behaviors`` as sub-behavior nodes."""
+    behavior_names = sorted(set(behaviors))
+    node = {
+        "type": "object",
+        "description": "A node of the graph: a primitive or a library behavior (exactly one).",
+        "properties": {
+            "id": _name(),
+            "primitive": _optional({"enum": sorted(primitives)}),
+            "behavior": (_optional({"enum": behavior_names}) if behavior_names
+                         else {"type": "null"}),
+            "description": _text()},
+        "required": ["id"],
+        "additionalProperties": False}
+    edge = {
+        "type": "object",
+        "description": "A directed edge, taken when its guard holds; param is the parameter of "
+                       "the next node's primitive, set updates variables.",
+        "properties": {
+            "from": _name(),
+            "to": _name(),
+            "guard": _expression(),
+            "param": _optional(_expression()),
+            "set": {"type": "object", "additionalProperties": _expression()},
+            "description": _text()},
+        "required": ["from", "to"],
+        "additionalProperties": False}
+    start = {
+        "type": "object",
+        "description": "The first node and, for a primitive, its parameter.",
+        "properties": {"node": _name(), "param": _optional(_expression())},
+        "required": ["node"],
+        "additionalProperties": False}
+    function = {
+        "type": "object",
+        "description": "A decision function: an expression over its args and the helpers.",
+        "properties": {
+            "args": {"type": "array", "items": _name(), "maxItems": 8},
+            "expr": _expression(),
+            "description": _text()},
+        "required": ["args", "expr"],
+        "additionalProperties": False}
+    return {
+        "type": "object",
+        "properties": {
+            "name": _name(),
+            "description": _text(),
+            "env": {"const": env_id},
+            "nodes": {"type": "array", "items": {"$ref": "#/$defs/Node"}, "minItems": 1},
+            "edges": {"type": "array", "items": {"$ref": "#/$defs/Edge"}},
+            "start": {"$ref": "#/$defs/Start"},
+            "terminals": {"type": "array", "items": _name(), "minItems": 1},
+            "functions": {"type": "object", "additionalProperties": {"$ref": "#/$defs/Function"}},
+            "variables": {"type": "object", "additionalProperties": _expression()}},
+        "required": ["name", "description", "env", "nodes", "edges", "start", "terminals"],
+        "additionalProperties": False,
+        "$defs": {"Node": node, "Edge": edge, "Start": start, "Function": function}}
+
+
+def request_schema(env: gym.Env, library_names: Iterable[str] = ()) -> dict[str, Any]:
+    """The request schema for ``env`` (its primitives as an enum) and the library behaviors
+    ``library_names`` (an enum of sub-behavior names)."""
+    interface = env.unwrapped
+    env_id = getattr(interface, "env_id", None) or env.spec.id
+    return grammar_schema(env_id, interface.primitives, library_names)
