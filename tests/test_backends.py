@@ -203,7 +203,7 @@ def test_ray_setup_failure_is_raised_as_itself(ray_instance):
     started = time.monotonic()
     with pytest.raises(tasks.SetupError, match="no runner today"):
         list(run_indices(tasks.failing_setup, range(1000), backend="ray", workers=2))
-    assert time.monotonic() - started < 30
+    assert time.monotonic() - started < 90  # a hang guard, not a timing
 
 
 @mark_ray

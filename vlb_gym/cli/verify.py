@@ -293,6 +293,12 @@ def cmd_replay(args: argparse.Namespace) -> int:
     from vlb_gym.verify.policies import policy_loader
 
     config, seed, stored = _replay_config(args)
+    if args.render:
+        try:
+            import PIL  # noqa: F401 - checked before the episode runs
+        except ImportError:
+            raise UsageError("--render needs Pillow: pip install pillow (or the extra "
+                             "'scoop')") from None
     try:
         env, policy = build(config, "rgb_array" if args.render else None)
     except ValueError as exc:
@@ -339,7 +345,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 def write_gif(out: Path, frames: list[np.ndarray], render_fps: float, fps: int) -> int:
     """``frames`` (thinned to ``fps``, the last one kept) as an animated GIF at ``out``,
-    written atomically; the number of frames written."""
+    written atomically; the number of frames in the file."""
     from PIL import Image
 
     stride = max(1, round(render_fps / fps))
@@ -349,7 +355,8 @@ def write_gif(out: Path, frames: list[np.ndarray], render_fps: float, fps: int) 
     images[0].save(gif, format="GIF", save_all=True, append_images=images[1:],
                    duration=int(1000 / fps), loop=0)
     write_atomic(out, gif.getvalue())
-    return len(images)
+    with Image.open(gif) as written:  # identical consecutive frames are merged into one
+        return written.n_frames
 
 
 def cmd_render(args: argparse.Namespace) -> int:

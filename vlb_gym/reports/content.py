@@ -326,7 +326,9 @@ def provenance_blocks(report: dict[str, Any], plan: dict[str, Any]) -> list[Bloc
     rows += [[f"version: {name}", Code(str(version))]
              for name, version in sorted((plan.get("versions") or {}).items())]
     if report.get("machine"):
-        rows.append(["machine", f"{report['machine']}, {report.get('workers', 1)} worker(s)"])
+        workers = report.get("workers")
+        rows.append(["machine", report["machine"] if workers is None
+                     else f"{report['machine']}, {workers} worker(s)"])
     return [Heading(2, "Provenance"), Table(["item", "value"], rows)]
 
 

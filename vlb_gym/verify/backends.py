@@ -370,8 +370,18 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
     owner: dict[Any, Any] = {}  # ref -> actor
     remaining = len(indices)
 
+    suspects: set[int] = set()  # indices of chunks an actor died with
+
+    def alone(chunk: list[int]) -> bool:
+        """Whether ``chunk`` runs alone on its actor: a suspect, retried so that a death can
+        be pinned on it (the replies of an actor's finished chunks may die with it)."""
+        return len(chunk) == 1 and chunk[0] in suspects
+
     def feed(actor: Any) -> None:
-        while todo and len(actors[actor]) < _IN_FLIGHT:
+        queue = actors[actor]
+        while todo and len(queue) < _IN_FLIGHT:
+            if queue and (alone(todo[0]) or alone(queue[-1][1])):
+                break
             chunk = todo.popleft()
             ref = actor.run.remote(chunk)
             actors[actor].append((ref, chunk))
@@ -398,19 +408,17 @@ def _ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: i
                     pass  # the actor died before finishing it (or had not run it)
             unfinished.append(chunk)
         ray.kill(actor, no_restart=True)
-        # the oldest unfinished chunk was running: retried index by index to find the culprit;
-        # the rest had not started
-        running, rest = unfinished[0], unfinished[1:]
-        todo.extendleft(reversed(rest))
-        if len(running) > 1:
-            todo.extendleft([i] for i in reversed(running))
-        else:
-            deaths[running[0]] += 1
-            if deaths[running[0]] >= max_deaths:
+        if len(unfinished) == 1 and alone(unfinished[0]):  # it ran alone: it is the culprit
+            (index,) = unfinished[0]
+            deaths[index] += 1
+            if deaths[index] >= max_deaths:
                 raise RuntimeError(
-                    f"index {running[0]}: its run killed the Ray actor's worker process "
-                    f"{deaths[running[0]]} times, so it is not tried again ({error})")
-            todo.appendleft(running)
+                    f"index {index}: its run killed the Ray actor's worker process "
+                    f"{deaths[index]} times, so it is not tried again ({error})")
+            todo.appendleft([index])
+        else:  # one of these was running: each is retried alone to find which
+            suspects.update(i for chunk in unfinished for i in chunk)
+            todo.extendleft([i] for chunk in reversed(unfinished) for i in reversed(chunk))
         start()
         return finished
 

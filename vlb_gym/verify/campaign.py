@@ -246,7 +246,8 @@ def run_sequential(config: CampaignConfig, max_episodes: int | None = None, work
 
 def report_from_store(store: CampaignStore) -> Report:
     """The report of the campaign in ``store``, rebuilt from the store alone (complete or not:
-    ``episodes`` is the number stored). Timing is the sum of the episodes' own seconds."""
+    ``episodes`` is the number stored). The store does not record how the campaign ran
+    (workers, backend): those are None, and the time is the sum of the episodes' own seconds."""
     plan = store.plan()
     if plan is None:
         raise StoreError(f"{store.path}: the store holds no campaign yet")
@@ -256,6 +257,6 @@ def report_from_store(store: CampaignStore) -> Report:
     seconds = sum(r.seconds for r in results)
     if plan["sequential"]:
         test = sequential.replay(plan["epsilon"], plan["delta"], results)
-        return Report.sequential(plan, results, test, plan["episodes"], seconds, 1, "serial",
+        return Report.sequential(plan, results, test, plan["episodes"], seconds, None, None,
                                  str(store.path))
-    return Report.fixed_n(plan, results, seconds, 1, "serial", str(store.path))
+    return Report.fixed_n(plan, results, seconds, None, None, str(store.path))

@@ -74,11 +74,12 @@ class Report(Mapping[str, Any]):
     # -- building -----------------------------------------------------------------------------
     @classmethod
     def fixed_n(cls, plan: dict[str, Any], results: Sequence[EpisodeResult], seconds: float,
-                workers: int, backend: str = "process", store: str | None = None,
+                workers: int | None, backend: str | None = "process", store: str | None = None,
                 ran: int | None = None) -> Report:
         """The report of a fixed-N campaign (complete or not: ``episodes`` counts ``results``;
         ``planned_episodes`` is N); ``ran`` episodes (default: all) took ``seconds``, the
-        others were resumed from a store."""
+        others were resumed from a store. A report rebuilt from a store knows no ``workers``
+        or ``backend`` (None); its ``seconds`` are the episodes' own."""
         results = sorted(results, key=lambda r: r.index)
         n = len(results)
         failures = sum(not r.success for r in results)
@@ -117,14 +118,14 @@ class Report(Mapping[str, Any]):
             "workers": workers,
             "backend": backend,
             "machine": f"{platform.machine()} {platform.system()}, {mp.cpu_count()} cpus, "
-                       f"Python {platform.python_version()}",
+                       f"Python {platform.python_version()}" if workers is not None else None,
         }
         return cls(data, store)
 
     @classmethod
     def sequential(cls, plan: dict[str, Any], results: Sequence[EpisodeResult],
                    test: sequential.SequentialTest, max_episodes: int, seconds: float,
-                   workers: int, backend: str = "process", store: str | None = None,
+                   workers: int | None, backend: str | None = "process", store: str | None = None,
                    ran: int | None = None) -> Report:
         """The report of a sequential campaign stopped by ``test`` (or by the cap)."""
         base = cls.fixed_n(plan, results, seconds, workers, backend, ran=ran)._data
@@ -208,8 +209,11 @@ class Report(Mapping[str, Any]):
                  f", {rate:.3g} episodes/s" if rate else "")
         mode = (f"sequential, {self['episodes']} episodes (at most {self['max_episodes']}; "
                 if self["mode"] == "sequential" else f"{self['episodes']} episodes (")
+        how = (f"{self['workers']} worker(s), {self['wall_seconds']:.1f} s"
+               if self["workers"] is not None else
+               f"from the store: the episodes' own time {self['wall_seconds']:.1f} s")
         lines = [f"{self['env_id']} / {shown_path(self['behavior'])}: {mode}seed {self['seed']}, "
-                 f"{self['workers']} worker(s), {self['wall_seconds']:.1f} s{speed})"]
+                 f"{how}{speed})"]
         if not self["complete"]:
             most = "at most " if self["mode"] == "sequential" else ""
             lines.append(f"  INCOMPLETE: {self['episodes']} of {most}{self['planned_episodes']} "
