@@ -20,6 +20,8 @@ from .env import PrimitiveEnv
 from .expressions import BUILTINS, Expression, ExpressionError
 from .helpers import arity
 from .spec import BehaviorSpec, BehaviorSpecError
+from .typecheck import BUILTIN_SIGNATURES, Signature, helper_signatures
+from .typecheck import check as typecheck
 
 VALUE = -1  # arity marker of names that are values, not functions
 MAX_BEHAVIOR_DEPTH = 16  # sub-behaviors nested within each other
@@ -171,7 +173,10 @@ class _Expressions:
     def __init__(self, spec: BehaviorSpec, interface: PrimitiveEnv, source: str):
         self.source = source
         names: dict[str, int | None] = {n: None for n in BUILTINS}
-        names.update({n: arity(f) for n, f in interface.make_helpers().functions().items()})
+        helpers = interface.make_helpers().functions()
+        names.update({n: arity(f) for n, f in helpers.items()})
+        self.signatures: dict[str, Signature] = {**BUILTIN_SIGNATURES,
+                                                 **helper_signatures(helpers)}
         for kind, declared in (("variables", spec.variables), ("functions", spec.functions)):
             for name in declared:
                 if name in names:
@@ -187,6 +192,8 @@ class _Expressions:
                 raise self.fail(f"functions.{name}.args",
                                 f"argument names must be new and distinct ({', '.join(clash)})")
             functions.append((name, self(fn.expr, f"functions.{name}.expr", tuple(fn.args))))
+            self.signatures[name] = Signature(len(fn.args), len(fn.args),
+                                              returns=self.returns)
         self.functions = tuple(functions)
         self.variables = tuple((v, self(text, f"variables.{v}"))
                                for v, text in spec.variables.items())
@@ -199,8 +206,10 @@ class _Expressions:
         if text is None:
             return None
         try:
-            return Expression(text, {**self.names, **{a: VALUE for a in args or ()}},
-                              f"{self.source}: {place}", args=args)
+            expression = Expression(text, {**self.names, **{a: VALUE for a in args or ()}},
+                                    f"{self.source}: {place}", args=args)
+            self.returns = typecheck(text, self.signatures, f"{self.source}: {place}")
+            return expression
         except ExpressionError as exc:
             raise BehaviorSpecError(str(exc), "expressions") from None
 

@@ -15,6 +15,7 @@ from collections.abc import Callable
 from typing import Any
 
 _MARK = "__vlb_helper__"
+ONE_OF = "__vlb_one_of__"  # the closed set of values a helper's string result is one of
 _BRIEF = reprlib.Repr()
 _BRIEF.maxlevel, _BRIEF.maxtuple, _BRIEF.maxlist = 3, 8, 8
 _BRIEF.maxstring, _BRIEF.maxother, _BRIEF.maxlong = 60, 60, 40
@@ -27,10 +28,20 @@ def brief(value: Any, limit: int = 120) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def helper(fn: Callable[..., Any]) -> Callable[..., Any]:
-    """Mark a method of a :class:`Helpers` subclass as callable from behavior expressions."""
-    setattr(fn, _MARK, True)
-    return fn
+def helper(fn: Callable[..., Any] | None = None, *, one_of: tuple[str, ...] | None = None
+           ) -> Any:
+    """Mark a method of a :class:`Helpers` subclass as callable from behavior expressions.
+
+    ``@helper(one_of=(...))`` also declares that the (string) result is always one of these
+    values: the type check (:mod:`vlb_gym.core.typecheck`) then refuses comparing it with anything
+    else, such as ``label(c) == 2`` or ``label(c) == 'wall'``.
+    """
+    def mark(fn: Callable[..., Any]) -> Callable[..., Any]:
+        setattr(fn, _MARK, True)
+        if one_of is not None:
+            setattr(fn, ONE_OF, tuple(one_of))
+        return fn
+    return mark if fn is None else mark(fn)
 
 
 def arity(fn: Callable[..., Any]) -> int | None:

@@ -87,7 +87,7 @@ class GridHelpers(Helpers):
         """The cell the agent occupies."""
         return self._here
 
-    @helper
+    @helper(one_of=LABEL_NAMES)
     def label(self, cell: Cell) -> str:
         """The agent's label of ``cell``: 'empty', 'obstacle', 'unexplored' or 'goal'."""
         if type(cell) is tuple and len(cell) == 2:  # _index's fast path, inlined: the hot call
