@@ -54,7 +54,7 @@ def compile_doc(doc: dict, env: gym.Env):
     ("label(current_cell()) == 'wall'",
      f"label() returns one of {LABELS}; compared with 'wall', which it never is"),
     ("label(current_cell()) == None",
-     f"label() returns one of {LABELS}; compared with None None"),
+     f"label() returns one of {LABELS}; compared with None (column 1)"),
     ("label(current_cell()) < 1.5",
      f"label() returns one of {LABELS}; compared with float 1.5"),
     ("label(current_cell()) in ('goal', 'wall')",

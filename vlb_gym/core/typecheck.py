@@ -368,6 +368,8 @@ class _Inference:
             shown = ast.unparse(other)
         else:
             shown = repr(value)
+        if other_t.kind == "none":
+            self.fail(node, f"{closed}; compared with None")
         if other_t.kind != "str":
             self.fail(node, f"{closed}; compared with {other_t.describe()} {shown}")
         if equality and isinstance(value, str) and value not in t.values:
