@@ -133,3 +133,13 @@ def test_render_writes_an_animation(tmp_path, capsys):
     assert "rho_B = +1" in capsys.readouterr().out
     with Image.open(out) as image:
         assert image.size == (320, 320) and image.n_frames > 3
+
+
+def test_errors_name_the_behavior_file_as_given(tmp_path, monkeypatch, capsys):
+    behavior = json.loads((EXAMPLES / "fixed_cell.json").read_text())
+    behavior["edges"][0]["param"] = "label(current_cell()) == 2"
+    (tmp_path / "bad.json").write_text(json.dumps(behavior))
+    monkeypatch.chdir(tmp_path)
+    assert main(["verify", "VLB-GridExplore-v0", "--behavior", "bad.json", "--episodes", "3",
+                 "--epsilon", "0.1"]) == 2
+    assert capsys.readouterr().err.startswith("vlb verify: error: bad.json: edges[0].param: ")

@@ -76,7 +76,11 @@ def cmd_verify(args: argparse.Namespace) -> int:
                             args.seed, env_kwargs(args.env_kwarg),
                             stop_on_failure=not args.keep_going,
                             env_modules=env_modules(args.env_module), sequential=args.sequential)
-    campaign = Campaign(config)  # checks the env and the policy before any episode
+    try:
+        campaign = Campaign(config)  # checks the env and the policy before any episode
+    except ValueError as exc:  # errors name the file as the user did, not as the plan keeps it
+        given = args.policy or args.behavior
+        raise UsageError(str(exc).replace(config.policy.ref, given)) from None
     inputs = [*campaign.files, *(store_files(args.store) if args.store else [])]
     export = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
               if args.episodes_out else None)
