@@ -175,12 +175,19 @@ def cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def changed_since(config, policy, digest: str) -> str | None:
+    """The policy's content digest now, if it differs from ``digest`` (the campaign's)."""
+    from vlb_gym.verify.policies import policy_loader
+
+    now = policy_loader(config.policy.kind).content(config.policy, policy)["sha256"]
+    return now if now != digest else None
+
+
 def episode_frames(plan: dict[str, Any], episodes: list) -> dict[str, list[np.ndarray]]:
     """Frames of the first failed and the first successful episode of a stored campaign, replayed
     where the env renders and the policy is the one the campaign ran (else none)."""
     from vlb_gym.verify.campaign import CampaignConfig, build
     from vlb_gym.verify.episode import run_episode
-    from vlb_gym.verify.policies import policy_loader
 
     config = CampaignConfig.from_plan(plan)
     try:
@@ -190,8 +197,7 @@ def episode_frames(plan: dict[str, Any], episodes: list) -> dict[str, list[np.nd
         return {}
     frames: dict[str, list[np.ndarray]] = {}
     try:
-        if policy_loader(config.policy.kind).content(config.policy, policy)["sha256"] != \
-                plan["content_sha256"]:
+        if changed_since(config, policy, plan["content_sha256"]):
             print("vlb report: no frames: the policy changed since the campaign", file=sys.stderr)
             return {}
         for label, success in (("failed", False), ("successful", True)):
@@ -253,7 +259,6 @@ def _replay_config(args: argparse.Namespace):
     """The campaign config and reset seed an episode is replayed with, and its stored record
     (None when replaying from a seed on the command line)."""
     from vlb_gym.verify.campaign import CampaignConfig, episode_seed
-    from vlb_gym.verify.policies import policy_loader
 
     if args.episode is None:
         if args.seed is None or not (args.behavior or args.policy):
@@ -287,8 +292,7 @@ def _replay_config(args: argparse.Namespace):
     config = CampaignConfig.from_plan(plan)
     if args.keep_going:
         config = dataclasses.replace(config, stop_on_failure=False)
-    loader = policy_loader(config.policy.kind)
-    return config, stored.seed, (stored, plan["content_sha256"], loader)
+    return config, stored.seed, (stored, plan["content_sha256"])
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
@@ -313,9 +317,9 @@ def cmd_replay(args: argparse.Namespace) -> int:
             inputs += store_files(args.target)
         check_output(args.render, inputs, True, "--render")
     if stored is not None:
-        record, digest, loader = stored
-        now = loader.content(config.policy, policy)["sha256"]
-        if now != digest:
+        record, digest = stored
+        now = changed_since(config, policy, digest)
+        if now:
             raise UsageError(f"{config.policy.ref} changed since the campaign (content sha256 "
                              f"{now[:12]}..., the store's {digest[:12]}...): the episode cannot "
                              "be replayed")

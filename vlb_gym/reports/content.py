@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import shlex
-from decimal import ROUND_CEILING, Decimal
 from typing import Any
 
 import numpy as np
@@ -20,11 +19,6 @@ MAX_FAILED_ROWS = 25
 MAX_TRACEBACKS = 3
 MAX_FRAMES = 6
 MATPLOTLIB_MISSING = "no picture (install matplotlib, e.g. pip install 'vlb-gym[rl]')"
-
-
-def ceil_str(x: float, digits: int = 5) -> str:
-    """An upper bound in words, rounded up (never below the number)."""
-    return str(Decimal(repr(x)).quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING))
 
 
 def short(text: Any, limit: int) -> str:
@@ -87,7 +81,7 @@ def claim_blocks(report: dict[str, Any]) -> list[Block]:
                        f" at level {level} by an anytime-valid sequential test ({stop_words})."]),
             Paragraph(["Decision: ", Strong(decision), ". Anytime-valid confidence interval at "
                        f"level {level}, simultaneously for all n: P[success] in [",
-                       Strong(bounds.floor_str(low)), ", ", Strong(ceil_str(high)),
+                       Strong(bounds.floor_str(low)), ", ", Strong(bounds.ceil_str(high)),
                        "]; confidence in the claim: ",
                        Strong(bounds.floor_str(report["confidence"])), "."]),
             Paragraph(["Test: ", str(report.get("test", "?")), ". Guarantee: ",
@@ -121,7 +115,7 @@ def numbers_table(report: dict[str, Any]) -> list[Block]:
     ]
     if sequential(report):
         rows += [["upper bound on P[success] (anytime-valid)",
-                  ceil_str(report.get("upper_bound", 1.0))],
+                  bounds.ceil_str(report.get("upper_bound", 1.0))],
                  ["decision", str(report.get("decision"))],
                  ["stopped at", str(report.get("stopped_at"))],
                  ["cap (max episodes)", str(report.get("max_episodes"))]]

@@ -21,7 +21,7 @@ import math
 import numbers
 import sys
 from collections.abc import Callable
-from decimal import ROUND_FLOOR, Decimal, localcontext
+from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal, localcontext
 from fractions import Fraction
 
 from scipy.stats import beta, binom
@@ -119,6 +119,11 @@ def floor_str(x: float, digits: int = 5) -> str:
     below_one = min(x, math.nextafter(1.0, 0.0))
     return str(Decimal(repr(below_one)).quantize(Decimal(1).scaleb(-digits),
                                                  rounding=ROUND_FLOOR))
+
+
+def ceil_str(x: float, digits: int = 5) -> str:
+    """An upper bound in words, rounded up (never below the number)."""
+    return str(Decimal(repr(x)).quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING))
 
 
 def one_minus_str(p: float) -> str:

@@ -12,7 +12,6 @@ import os
 import platform
 import shlex
 from collections.abc import Iterator, Mapping, Sequence
-from decimal import ROUND_CEILING, Decimal
 from typing import Any
 
 from . import bounds, sequential
@@ -25,11 +24,6 @@ def shown_path(ref: str) -> str:
         return ref
     relative = os.path.relpath(ref)
     return ref if relative.startswith("..") else relative
-
-
-def ceil_str(x: float, digits: int = 5) -> str:
-    """An upper bound in words, rounded up (never below the number)."""
-    return str(Decimal(repr(x)).quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING))
 
 
 def failures_by_cause(results: Sequence[EpisodeResult], examples: int = 3) -> list[dict[str, Any]]:
@@ -160,8 +154,9 @@ class Report(Mapping[str, Any]):
             "confidence": test.confidence(),
             "lower_bound": low,
             "upper_bound": high,
-            "statement": (f"{words}; P[success] in [{bounds.floor_str(low)}, {ceil_str(high)}] "
-                          f"at confidence level {level}, simultaneously for all n "
+            "statement": (f"{words}; P[success] in [{bounds.floor_str(low)}, "
+                          f"{bounds.ceil_str(high)}] at confidence level {level}, "
+                          "simultaneously for all n "
                           f"({sequential.TEST_NAME})"),
             "fixed_n_description": fixed,
         })
@@ -243,8 +238,8 @@ class Report(Mapping[str, Any]):
                      "certified"]
         return lines + [
             f"  anytime-valid: P[success] in [{bounds.floor_str(self['lower_bound'])}, "
-            f"{ceil_str(self['upper_bound'])}] at confidence level {level}, simultaneously for "
-            "every number of episodes",
+            f"{bounds.ceil_str(self['upper_bound'])}] at confidence level {level}, "
+            "simultaneously for every number of episodes",
             f"  test: {self['test']}, mixing prior Beta({a:g}, {b:g}); Ville's inequality: the "
             f"true P[success] leaves the interval at some n with probability <= "
             f"{self['delta']:g}",
