@@ -60,7 +60,7 @@ def test_http_success_sends_schema_with_enums_and_key(library, monkeypatch):
     assert body["model"] == "test-model" and body["messages"][0]["role"] == "system"
     assert PAPER_PROMPT_1 in body["messages"][1]["content"]
     schema = body["response_format"]["json_schema"]["schema"]
-    assert schema["$defs"]["Node"]["properties"]["primitive"]["anyOf"][0]["enum"] == \
+    assert schema["$defs"]["Node"]["anyOf"][0]["properties"]["primitive"]["enum"] == \
         ["navigate", "sense"]
     assert server.headers[0]["Authorization"] == "Bearer sk-test"
 

@@ -31,7 +31,15 @@ pytestmark = pytest.mark.timeout(60)
 
 ENV = "VLB-GridExplore-v0"
 PROMPT = PROMPTS["behavior1"]
-REPLY = json.dumps(json.loads((PAPER / "behavior1.replies.json").read_text())[0])
+
+
+def in_full(doc: dict) -> dict:
+    """A behavior document as a constrained decoder writes it: ``variables`` and ``functions``
+    present (empty when unused); the validator takes either form."""
+    return {"variables": {}, "functions": {}, **doc}
+
+
+REPLY = json.dumps(in_full(json.loads((PAPER / "behavior1.replies.json").read_text())[0]))
 BEHAVIORS = Path(__file__).resolve().parent.parent / "vlb_gym" / "behaviors"
 
 # server mode -> the dialect auto must choose, after how many rejected or ignored probes
@@ -91,7 +99,7 @@ def test_each_dialect_by_name_sends_its_shape_and_no_probe(server_mode, dialect,
               "vllm": lambda: body["guided_json"], "ollama": lambda: body["format"],
               "json_object": lambda: None, "none": lambda: None}[dialect]()
     if schema is not None:  # the grammar-friendly request schema, enums for this request
-        assert schema["$defs"]["Node"]["properties"]["primitive"]["anyOf"][0]["enum"] == \
+        assert schema["$defs"]["Node"]["anyOf"][0]["properties"]["primitive"]["enum"] == \
             ["navigate", "sense"]
     assert json.loads((tmp_path / "b.transcript.json").read_text())["structured_output"] == \
         {"json_schema": "openai"}.get(dialect, dialect)
@@ -208,11 +216,11 @@ def walk(schema):
 def documents():
     """(env, document, valid for the validator) of every shipped behavior and paper reply."""
     for path in sorted(BEHAVIORS.glob("*.json")):
-        doc = json.loads(path.read_text())
+        doc = in_full(json.loads(path.read_text()))
         yield doc["env"], doc, True
     for path in sorted(PAPER.glob("*.replies.json")):
         for doc in json.loads(path.read_text()):
-            yield doc["env"], doc, None  # None: ask the validator
+            yield doc["env"], in_full(doc), None  # None: ask the validator
 
 
 LIBRARY = ["explore_until_goal", "find_goal_and_oscillate", "scoop_repeatedly",
@@ -224,8 +232,8 @@ def test_the_request_schema_is_grammar_friendly():
     for env_id in ("VLB-GridExplore-v0", "VLB-Scoop-v0"):
         schema = request_schema(gym.make(env_id), LIBRARY)
         jsonschema.Draft202012Validator.check_schema(schema)
-        assert schema["required"] == ["name", "description", "env", "nodes", "edges", "start",
-                                      "terminals"]
+        assert schema["required"] == ["name", "description", "env", "variables", "functions",
+                                      "nodes", "edges", "start", "terminals"]
         assert schema["properties"]["env"] == {"const": env_id}
         for part in walk(schema):
             if not isinstance(part, dict):
@@ -236,7 +244,7 @@ def test_the_request_schema_is_grammar_friendly():
             if "properties" in part:
                 assert part["additionalProperties"] is False
         primitives = sorted(gym.make(env_id).unwrapped.primitives)
-        assert schema["$defs"]["Node"]["properties"]["primitive"]["anyOf"][0]["enum"] == \
+        assert schema["$defs"]["Node"]["anyOf"][0]["properties"]["primitive"]["enum"] == \
             primitives
 
 
@@ -262,10 +270,11 @@ def test_shipped_behaviors_and_paper_replies_meet_the_request_schema(user_librar
     assert checked >= 6
 
 
-def test_the_prompt_shows_the_request_schema(tmp_path):
+def test_the_schema_goes_with_the_request_and_the_compact_prompt_shows_an_example(tmp_path):
     with ChatServer([("reply", REPLY)], dialect="openai") as server:
         assert synthesize(server, tmp_path, "openai") == 0
     body = server.requests[0]
-    assert json.dumps(body["response_format"]["json_schema"]["schema"]) in \
-        body["messages"][1]["content"]
-    assert '"maxLength": 2000' not in body["messages"][1]["content"]
+    prompt = body["messages"][1]["content"]
+    assert body["response_format"]["json_schema"]["schema"]["properties"]["nodes"]
+    assert "Example (of another task):" in prompt and '"$defs"' not in prompt
+    assert '"maxLength": 2000' not in prompt

@@ -8,12 +8,15 @@ expression string becomes a repetition of 2,000 in the grammar, enough to make l
 defaults"), and ``maxItems: 1024`` or ``patternProperties`` fare no better. So the request
 schema keeps the shape of a behavior document and drops the limits:
 
-* the top level is fixed: ``name``, ``description``, ``env`` (a constant), ``nodes``, ``edges``,
-  ``start`` and ``terminals`` are required, ``variables`` and ``functions`` optional; every object
-  of fixed shape has ``additionalProperties: false`` (grammar compilers write required
-  properties first, in this order, then the optional ones);
-* primitive names and library behavior names are enums, as the env and the library are known
-  when the request is made;
+* the top level is fixed and all of it required, in the order a behavior is read: ``name``,
+  ``description``, ``env`` (a constant), ``variables`` and ``functions`` (empty objects when
+  unused), ``nodes``, ``edges``, ``start``, ``terminals``. Grammar compilers write required
+  properties first, in their order, then the optional ones: with ``variables`` optional, a
+  constrained model could only declare them after the edges that use them, and small models
+  then leave them out. Every object of fixed shape has ``additionalProperties: false``;
+* a node is either a primitive node (``id``, ``primitive``) or, when the library has behaviors,
+  a behavior node (``id``, ``behavior``): never both, never neither; primitive names and library
+  behavior names are enums, as the env and the library are known when the request is made;
 * expression strings have no ``maxLength`` and no list has a ``maxItems`` above 8; names keep
   their pattern (no length);
 * maps (``variables``, ``functions``, an edge's ``set``) are ``additionalProperties: SCHEMA``
@@ -57,17 +60,22 @@ def grammar_schema(env_id: str, primitives: Iterable[str], behaviors: Iterable[s
     """The request schema for behaviors of ``env_id`` over ``primitives`` that may use the
     library behaviors ``behaviors`` as sub-behavior nodes."""
     behavior_names = sorted(set(behaviors))
-    node = {
+    primitive_node = {
         "type": "object",
-        "description": "A node of the graph: a primitive or a library behavior (exactly one).",
-        "properties": {
-            "id": _name(),
-            "primitive": _optional({"enum": sorted(primitives)}),
-            "behavior": (_optional({"enum": behavior_names}) if behavior_names
-                         else {"type": "null"}),
-            "description": _text()},
-        "required": ["id"],
+        "description": "A node that runs one motion primitive.",
+        "properties": {"id": _name(), "primitive": {"enum": sorted(primitives)},
+                       "description": _text()},
+        "required": ["id", "primitive"],
         "additionalProperties": False}
+    node: dict[str, Any] = primitive_node
+    if behavior_names:
+        node = {"anyOf": [primitive_node, {
+            "type": "object",
+            "description": "A node that runs a whole library behavior.",
+            "properties": {"id": _name(), "behavior": {"enum": behavior_names},
+                           "description": _text()},
+            "required": ["id", "behavior"],
+            "additionalProperties": False}]}
     edge = {
         "type": "object",
         "description": "A directed edge, taken when its guard holds; param is the parameter of "
@@ -102,13 +110,14 @@ def grammar_schema(env_id: str, primitives: Iterable[str], behaviors: Iterable[s
             "name": _name(),
             "description": _text(),
             "env": {"const": env_id},
+            "variables": {"type": "object", "additionalProperties": _expression()},
+            "functions": {"type": "object", "additionalProperties": {"$ref": "#/$defs/Function"}},
             "nodes": {"type": "array", "items": {"$ref": "#/$defs/Node"}, "minItems": 1},
             "edges": {"type": "array", "items": {"$ref": "#/$defs/Edge"}},
             "start": {"$ref": "#/$defs/Start"},
-            "terminals": {"type": "array", "items": _name(), "minItems": 1},
-            "functions": {"type": "object", "additionalProperties": {"$ref": "#/$defs/Function"}},
-            "variables": {"type": "object", "additionalProperties": _expression()}},
-        "required": ["name", "description", "env", "nodes", "edges", "start", "terminals"],
+            "terminals": {"type": "array", "items": _name(), "minItems": 1}},
+        "required": ["name", "description", "env", "variables", "functions", "nodes", "edges",
+                     "start", "terminals"],
         "additionalProperties": False,
         "$defs": {"Node": node, "Edge": edge, "Start": start, "Function": function}}
 

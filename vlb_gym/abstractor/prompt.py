@@ -2,7 +2,11 @@
 
 The templates are versioned files in ``prompts/<version>/``; the primitive list, the helper
 signatures and the behavior library are generated from the live environment and library, never
-hand-copied. :func:`request_schema` is the grammar-friendly behavior schema of
+hand-copied. ``v1`` shows the request schema and every library behavior's whole document; ``v2``
+(the default) is compact -- the graph's rules, one worked example per environment
+(``prompts/v2/examples/ENV_ID.json``, else the environment's first library behavior) and the
+library as names and descriptions -- at well under half of ``v1``'s tokens (see
+``benchmarks/prompt_tokens.py``): on a CPU, prompt processing dominates a request. :func:`request_schema` is the grammar-friendly behavior schema of
 :mod:`vlb_gym.abstractor.grammar` with this request's primitive and behavior names as enums, for
 backends that enforce structured output (and shown in the prompt).
 """
@@ -25,12 +29,37 @@ from vlb_gym.core.spec import BehaviorSpecError
 from .backends import Message
 from .grammar import grammar_schema
 
-PROMPT_VERSION = "v1"
+PROMPT_VERSIONS = ("v1", "v2")
+PROMPT_VERSION = "v2"
 
 
 def _template(name: str, version: str) -> Template:
+    if version not in PROMPT_VERSIONS:
+        raise ValueError(f"unknown prompt version {version!r}; known: {', '.join(PROMPT_VERSIONS)}")
     path = resources.files("vlb_gym.abstractor") / "prompts" / version / f"{name}.md"
     return Template(path.read_text())
+
+
+def _example(env_id: str, behaviors: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """The worked example of ``env_id``'s prompt: its shipped example, else its first library
+    behavior, else none."""
+    path = resources.files("vlb_gym.abstractor") / "prompts" / "v2" / "examples" / f"{env_id}.json"
+    if path.is_file():
+        return json.loads(path.read_text())
+    return behaviors[0]["document"] if behaviors else None
+
+
+def space_text(space: gym.Space) -> str:
+    """A short description of a parameter space, e.g. ``integers in [0, 10) x [0, 10)``
+    (bounds rounded to 3 significant digits)."""
+    if isinstance(space, gym.spaces.Box) and len(space.shape) == 1:
+        return f"{space.shape[0]} numbers in " + " x ".join(
+            f"[{lo:.3g}, {hi:.3g}]" for lo, hi in zip(space.low, space.high))
+    if isinstance(space, gym.spaces.MultiDiscrete) and space.nvec.ndim == 1:
+        return "integers in " + " x ".join(f"[0, {n})" for n in space.nvec.tolist())
+    if isinstance(space, gym.spaces.Discrete):
+        return f"an integer in [{space.start}, {space.start + space.n})"
+    return str(space)
 
 
 @dataclass(frozen=True)
@@ -44,13 +73,15 @@ class PromptContext:
     behaviors: list[dict[str, Any]]  # name, description, document
     uses: tuple[str, ...]
     skipped: dict[str, str]  # library behaviors that do not load -> why
+    example: dict[str, Any] | None = None  # the worked example (a behavior document)
 
     @classmethod
     def build(cls, env: gym.Env, library: BehaviorLibrary, uses: tuple[str, ...] = ()
               ) -> PromptContext:
         interface = env.unwrapped
         env_id = getattr(interface, "env_id", None) or env.spec.id
-        primitives = {name: {"description": p.description, "parameters": str(p.param_space)}
+        primitives = {name: {"description": p.description, "parameters": str(p.param_space),
+                             "brief": space_text(p.param_space)}
                       for name, p in interface.primitives.items()}
         specs, skipped = library.load_all()
         for use in uses:
@@ -67,7 +98,8 @@ class PromptContext:
                                                               exclude_defaults=True)})
         helpers = interface.make_helpers()
         notes = " ".join((inspect.getdoc(type(helpers)) or "").split("\n\n", 1)[-1].split())
-        return cls(env_id, primitives, helpers.describe(), notes, behaviors, tuple(uses), skipped)
+        return cls(env_id, primitives, helpers.describe(), notes, behaviors, tuple(uses), skipped,
+                   _example(env_id, behaviors))
 
 
 def request_schema(context: PromptContext) -> dict[str, Any]:
@@ -79,21 +111,32 @@ def request_schema(context: PromptContext) -> dict[str, Any]:
 
 def build_messages(description: str, context: PromptContext, info: str = "",
                    version: str = PROMPT_VERSION) -> list[Message]:
-    """The system and user messages for one request (the paper's s, I, D and B)."""
-    primitives = "\n".join(f"- {name}: {p['description']} Parameter space: {p['parameters']}."
-                           for name, p in context.primitives.items())
+    """The system and user messages for one request (the paper's s, I, D and B), the task last so
+    that requests of one context share their longest prefix (a local model's cache reuses it)."""
+    system = _template("system", version).substitute(builtins=", ".join(sorted(BUILTINS)))
     helpers = "\n".join([f"- {sig}: {doc}" for sig, doc in context.helpers.items()]
                         + [context.helper_notes])
-    behaviors = "\n".join(
-        f"- {b['name']}{' (the user asks you to build on it)' if b['name'] in context.uses else ''}"
-        f": {b['description']}\n  {json.dumps(b['document'])}" for b in context.behaviors
-    ) or "(none)"
-    system = _template("system", version).substitute(builtins=", ".join(sorted(BUILTINS)))
+    if version == "v1":
+        primitives = "\n".join(f"- {name}: {p['description']} Parameter space: "
+                               f"{p['parameters']}." for name, p in context.primitives.items())
+        fields = {"behaviors": "\n".join(
+            f"- {b['name']}{_USES if b['name'] in context.uses else ''}: {b['description']}\n"
+            f"  {json.dumps(b['document'])}" for b in context.behaviors) or "(none)",
+            "schema": json.dumps(request_schema(context))}
+    else:
+        primitives = "\n".join(f"- {name}: {p['description']} Space: {p['brief']}."
+                               for name, p in context.primitives.items())
+        fields = {"library": "\n".join(
+            f"- {b['name']}{_USES if b['name'] in context.uses else ''}: {b['description']}"
+            for b in context.behaviors) or "(none)",
+            "example": json.dumps(context.example) if context.example else "(none)"}
     user = _template("user", version).substitute(
         env_id=context.env_id, primitives=primitives, helpers=helpers,
-        info=info.strip() or "(none)", behaviors=behaviors,
-        schema=json.dumps(request_schema(context)), description=description.strip())
+        info=info.strip() or "(none)", description=description.strip(), **fields)
     return [{"role": "system", "content": system}, {"role": "user", "content": user}]
+
+
+_USES = " (the user asks you to build on it)"
 
 
 def repair_message(error: BehaviorSpecError) -> Message:

@@ -45,22 +45,23 @@ class Synthesis:
 def synthesize(env_id: str, description: str, backend: ChatBackend,
                library: BehaviorLibrary | None = None, info: str = "",
                uses: tuple[str, ...] = (), name: str | None = None,
-               max_rounds: int = 3) -> Synthesis:
+               max_rounds: int = 3, prompt_version: str = PROMPT_VERSION) -> Synthesis:
     """One pass of Algorithm 1 for the desired behavior ``description`` (the paper's s) with the
-    extra information ``info`` (I). A ``name`` already in the library is returned as it is."""
+    extra information ``info`` (I), asked with the prompt templates ``prompt_version``. A
+    ``name`` already in the library is returned as it is."""
     if max_rounds < 1:
         raise ValueError(f"max_rounds must be at least 1 (got {max_rounds})")
     library = library or BehaviorLibrary()
     env = gym.make(env_id)
     transcript: dict[str, Any] = {
         "env_id": env_id, "description": description, "info": info, "uses": list(uses),
-        "name": name, "backend": backend.name, "prompt_version": PROMPT_VERSION,
+        "name": name, "backend": backend.name, "prompt_version": prompt_version,
         "started": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "rounds": []}
     if name is not None and name in library:
         return Synthesis(compile_for(name, env, library), transcript, from_library=True)
     context = PromptContext.build(env, library, uses)
     transcript["skipped_library_behaviors"] = context.skipped
-    messages = build_messages(description, context, info)
+    messages = build_messages(description, context, info, prompt_version)
     schema = request_schema(context)
     transcript["messages"] = list(messages)
     error: BehaviorSpecError | None = None
@@ -75,6 +76,9 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
             raise SynthesisError(f"{cause}the language model failed: {exc}", transcript) from None
         _note_structured_output(transcript, backend)
         record = {"round": round_number, "reply": reply, "error": None, "layer": None}
+        usage = getattr(backend, "usage", None)  # a local model's tokens and seconds
+        if usage:
+            record["usage"] = usage[-1]
         transcript["rounds"].append(record)
         try:
             compiled = validate_reply(reply, env, library, name, f"reply {round_number}")

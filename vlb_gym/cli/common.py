@@ -198,8 +198,23 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
                    "llama-cpp-python), vllm (guided_json), ollama (Ollama's native /api/chat "
                    "with format), json_object (JSON, no schema), none; auto probes the server "
                    "once, in that order, and says which it uses")
-    p.add_argument("--timeout", type=seconds, default=60.0, metavar="SECONDS",
-                   help="seconds per request")
+    p.add_argument("--timeout", type=seconds, metavar="SECONDS",
+                   help="seconds per request (default: 120 for a remote server, 900 for one on "
+                   "this machine or a private network, 1800 per reply for --model-path)")
     p.add_argument("--retries", type=count(0), default=3, metavar="N", help="retries per request")
     p.add_argument("--scripted", metavar="FILE",
                    help="canned replies (a JSON list) instead of a live model")
+    local = p.add_argument_group("a local model, in this process (extra llm: llama-cpp-python)")
+    local.add_argument("--model-path", metavar="FILE.gguf",
+                       help="a GGUF model file, decoded with the behavior grammar so every reply "
+                       "is well-formed JSON; a progress line shows tokens and tokens/s")
+    local.add_argument("--context", type=count(512), default=8192, metavar="TOKENS",
+                       help="context window (default 8192)")
+    local.add_argument("--threads", type=count(1), metavar="N",
+                       help="CPU threads (default: all)")
+    local.add_argument("--max-tokens", type=count(1), default=1500, metavar="N",
+                       help="tokens per reply (default 1500)")
+    local.add_argument("--temperature", type=float, default=0.0, metavar="T",
+                       help="sampling temperature; 0 (the default) is greedy")
+    local.add_argument("--sampling-seed", type=count(0), default=0, metavar="S",
+                       help="seed of the sampler when --temperature > 0")

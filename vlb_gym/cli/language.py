@@ -6,7 +6,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import gymnasium as gym
 
@@ -18,6 +18,7 @@ from .library import graph_text
 
 if TYPE_CHECKING:
     from vlb_gym.abstractor.backends import ChatBackend
+    from vlb_gym.abstractor.local import Decoding
 
 
 def backend_from_args(args: argparse.Namespace) -> ChatBackend:
@@ -26,10 +27,11 @@ def backend_from_args(args: argparse.Namespace) -> ChatBackend:
 
     chosen = [flag for flag, value in (("--scripted", args.scripted),
                                        ("--replay-transcript", args.replay_transcript),
-                                       ("--base-url", args.base_url)) if value]
+                                       ("--base-url", args.base_url),
+                                       ("--model-path", args.model_path)) if value]
     if len(chosen) != 1:
         raise UsageError("give exactly one language model: --base-url URL (with --model), "
-                         "--scripted FILE or --replay-transcript FILE"
+                         "--model-path FILE.gguf, --scripted FILE or --replay-transcript FILE"
                          + (f" (got {', '.join(chosen)})" if chosen else ""))
     try:
         if args.scripted:
@@ -38,13 +40,58 @@ def backend_from_args(args: argparse.Namespace) -> ChatBackend:
             return TranscriptBackend.from_file(args.replay_transcript)
     except BackendError as exc:  # an unreadable or malformed file of replies
         raise UsageError(str(exc)) from None
-    if not args.model:
-        raise UsageError("--base-url needs --model NAME")
     try:
-        return OpenAICompatibleBackend(args.base_url, args.model, args.api_key_env, args.timeout,
+        if args.model_path:
+            from vlb_gym.abstractor.local import DEFAULT_TIMEOUT, LocalBackend
+            if args.temperature < 0:
+                raise ValueError(f"--temperature must be at least 0 (got {args.temperature})")
+            return LocalBackend(args.model_path, args.context, args.threads, args.max_tokens,
+                                args.temperature, args.sampling_seed,
+                                args.timeout or DEFAULT_TIMEOUT, progress=TokenProgress())
+        if not args.model:
+            raise UsageError("--base-url needs --model NAME")
+        return OpenAICompatibleBackend(args.base_url, args.model, args.api_key_env,
+                                       args.timeout or default_timeout(args.base_url),
                                        args.retries, structured_output=args.structured_output)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+
+
+def default_timeout(base_url: str) -> float:
+    """Seconds per request: 900 for a server on this machine or a private network (a local
+    model on a CPU reads a prompt at tens of tokens/s), else 120."""
+    import ipaddress
+    from urllib.parse import urlsplit
+
+    host = urlsplit(base_url).hostname or ""
+    try:
+        local = ipaddress.ip_address(host).is_private
+    except ValueError:
+        local = host == "localhost" or host.endswith((".local", ".lan", ".internal"))
+    return 900.0 if local else 120.0
+
+
+class TokenProgress:
+    """Progress lines on stderr for a local model: a line when a request begins (the prompt is
+    being read), then a tqdm line of reply tokens and tokens/s."""
+
+    def __init__(self) -> None:
+        self.bar: Any = None
+
+    def __call__(self, decoding: Decoding) -> None:
+        from tqdm import tqdm
+
+        if decoding.tokens == 0 and not decoding.done:
+            print(f"request {decoding.request}: reading the prompt ...", file=sys.stderr)
+            return
+        if self.bar is None:
+            self.bar = tqdm(desc=f"request {decoding.request}: prompt {decoding.prompt_tokens} "
+                            f"tokens in {decoding.prompt_seconds or 0:.0f} s; reply",
+                            unit=" tokens", file=sys.stderr, mininterval=1.0, dynamic_ncols=True)
+        self.bar.update(decoding.tokens - self.bar.n)
+        if decoding.done:
+            self.bar.close()
+            self.bar = None
 
 
 def announce_structured_output(backend: ChatBackend, command: str) -> None:
@@ -112,7 +159,8 @@ def cmd_scoop_setup(args: argparse.Namespace) -> int:
     from vlb_gym.abstractor.scoop_setup import ScoopSetup, SetupError, transcript_json
     from vlb_gym.core.library import BehaviorLibrary
 
-    backend = backend_from_args(args) if (args.base_url or args.scripted) else None
+    backend = (backend_from_args(args) if (args.base_url or args.scripted or args.model_path)
+               else None)
     if backend is not None:
         announce_structured_output(backend, "scoop-setup")
     env = gym.make("VLB-Scoop-v0").unwrapped

@@ -127,7 +127,10 @@ def _check_references(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
         if node_id not in nodes:
             raise fail(node_field, f"unknown node {node_id!r}")
         if nodes[node_id].child is not None and param is not None:
-            raise fail(place, f"node {node_id!r} is a sub-behavior and takes no param")
+            raise fail(place, f"node {node_id!r} runs the whole behavior "
+                              f"{nodes[node_id].child.name!r} and takes no param (a node that "
+                              "runs a primitive with a param is {\"id\": ..., \"primitive\": "
+                              "NAME})")
         if nodes[node_id].child is None and param is None:
             raise fail(place, f"node {node_id!r} runs primitive {nodes[node_id].primitive!r} "
                               "and needs a param")

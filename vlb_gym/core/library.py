@@ -54,10 +54,15 @@ def _read(path: Path) -> tuple[BehaviorSpec, str, Path]:
 
 
 class BehaviorLibrary:
-    """Named behaviors: the shipped ones plus those saved in ``directory``."""
+    """Named behaviors: the shipped ones (unless ``shipped`` is False, e.g. to synthesize the
+    paper's Behavior 1 from an empty library) plus those saved in ``directory``."""
 
-    def __init__(self, directory: Path | None = None):
+    def __init__(self, directory: Path | None = None, shipped: bool = True):
         self.directory = Path(directory) if directory is not None else user_dir()
+        self.shipped = shipped
+
+    def _shipped(self) -> list[str]:
+        return shipped_behaviors() if self.shipped else []
 
     def user_behaviors(self) -> list[str]:
         if not self.directory.is_dir():
@@ -66,10 +71,10 @@ class BehaviorLibrary:
         return sorted(p.stem for p in self.directory.glob("*.json") if "." not in p.stem)
 
     def names(self) -> list[str]:
-        return sorted(set(shipped_behaviors()) | set(self.user_behaviors()))
+        return sorted(set(self._shipped()) | set(self.user_behaviors()))
 
     def __contains__(self, name: str) -> bool:
-        return name in shipped_behaviors() or (self.directory / f"{name}.json").is_file()
+        return name in self._shipped() or (self.directory / f"{name}.json").is_file()
 
     def resolve(self, ref: str, base_dir: Path | None = None
                 ) -> tuple[BehaviorSpec, str, Path | None]:
@@ -86,7 +91,7 @@ class BehaviorLibrary:
             raise BehaviorSpecError(f"{ref!r} is not a behavior name: only behaviors of the "
                                     f"library can be referenced, by name "
                                     f"({', '.join(self.names())})")
-        if ref in shipped_behaviors():
+        if ref in self._shipped():
             text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
             return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
         if (self.directory / f"{ref}.json").is_file():
