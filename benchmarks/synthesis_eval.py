@@ -17,7 +17,8 @@ Every transcript and valid behavior is written under ``--out/<model>/``, with ``
 (one row per sample) and ``results.md`` (per model: validity rate, mean rounds, certified rate,
 tokens, seconds; then per task). ``--replay DIR`` re-runs the saved transcripts without a model
 (:class:`~vlb_gym.abstractor.backends.TranscriptBackend`): each must reach the same outcome
-round by round, and the tables are rebuilt from the replay.
+round by round, and the tables are rebuilt from the replay (tokens and seconds are the live
+run's, from the transcripts).
 """
 
 from __future__ import annotations
@@ -203,13 +204,12 @@ def main() -> None:
     table = tables(samples, args.episodes)
     print(f"\n{platform.machine()}, {platform.python_version()}, "
           f"{time.perf_counter() - started:.0f} s\n\n{table}")
-    if args.replay:
-        return
-    with (args.out / "results.csv").open("w", newline="") as handle:
+    out = args.replay or args.out
+    with (out / "results.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(asdict(samples[0])))
         writer.writeheader()
         writer.writerows(asdict(s) for s in samples)
-    write_atomic(args.out / "results.md", table)
+    write_atomic(out / "results.md", table)
 
 
 if __name__ == "__main__":
