@@ -71,6 +71,16 @@ class Sample:
         return self.valid and self.episodes > 0 and self.done == self.episodes
 
 
+def cost(rounds: list[dict]) -> tuple[int, int, float]:
+    """Prompt tokens, reply tokens and decoding seconds of a transcript's rounds, every draw of
+    every round (a round's ``usage`` is a list of draws: a reply that repeated a rejected one
+    was drawn again)."""
+    draws = [draw for r in rounds for draw in r.get("usage") or []]
+    return (sum(d.get("prompt_tokens") or 0 for d in draws),
+            sum(d.get("reply_tokens") or 0 for d in draws),
+            round(sum(d.get("seconds") or 0 for d in draws), 1))
+
+
 def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: Path,
             episodes: int, max_rounds: int) -> Sample:
     """Synthesize ``task`` once with ``backend``, save the transcript (and the behavior), and
@@ -88,12 +98,9 @@ def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: P
     transcript["task"] = task.name
     save_transcript(transcript, stem.with_suffix(".transcript.json"))
     rounds = transcript["rounds"]
-    usage = [r.get("usage") or {} for r in rounds]
     record = Sample(model, task.name, task.difficulty, sample, compiled is not None, len(rounds),
-                    " ".join(r["layer"] or "ok" for r in rounds),
-                    sum(u.get("prompt_tokens") or 0 for u in usage),
-                    sum(u.get("reply_tokens") or 0 for u in usage),
-                    round(sum(u.get("seconds") or 0 for u in usage) or seconds, 1))
+                    " ".join(r["layer"] or "ok" for r in rounds), *cost(rounds))
+    record.seconds = record.seconds or round(seconds, 1)
     if compiled is None:
         record.failure = (rounds[-1]["error"] or "")[:200]
         return record
@@ -146,10 +153,7 @@ def replay(folder: Path, tasks: list[Task], episodes: int) -> list[Sample]:
             again = json.loads((Path(scratch) / path.name).read_text())
         if [r["error"] for r in again["rounds"]] != [r["error"] for r in saved["rounds"]]:
             mismatches.append(path)
-        usage = [r.get("usage") or {} for r in saved["rounds"]]  # the live run's cost
-        record.prompt_tokens = sum(u.get("prompt_tokens") or 0 for u in usage)
-        record.reply_tokens = sum(u.get("reply_tokens") or 0 for u in usage)
-        record.seconds = round(sum(u.get("seconds") or 0 for u in usage), 1)
+        record.prompt_tokens, record.reply_tokens, record.seconds = cost(saved["rounds"])
         samples.append(record)
     if mismatches:
         sys.exit("replay differs from the live run: " + ", ".join(map(str, mismatches)))

@@ -58,7 +58,7 @@ def test_http_success_sends_schema_with_enums_and_key(library, monkeypatch):
     assert result.rounds == 1 and result.compiled.name == "explore_for_goal"
     body = server.requests[0]
     assert body["model"] == "test-model" and body["messages"][0]["role"] == "system"
-    assert PAPER_PROMPT_1 in body["messages"][1]["content"]
+    assert PAPER_PROMPT_1 in body["messages"][-1]["content"]
     schema = body["response_format"]["json_schema"]["schema"]
     assert schema["$defs"]["Node"]["anyOf"][0]["properties"]["primitive"]["enum"] == \
         ["navigate", "sense"]
@@ -222,14 +222,15 @@ def test_dry_run_catches_runtime_errors(library):
 
 def test_prompt_is_generated_from_the_environment(library):
     context = PromptContext.build(gym.make(ENV), library, ("explore_until_goal",))
-    system, user = build_messages("do things", context, info="Cells are 1 m wide.")
+    system, *turns = build_messages("do things", context, info="Cells are 1 m wide.")
+    user = "\n".join(turn["content"] for turn in turns)
     env = gym.make(ENV).unwrapped
     for name, primitive in env.primitives.items():
-        assert f"- {name}: {primitive.description}" in user["content"]
+        assert f"- {name}: {primitive.description}" in user
     for helper in env.make_helpers().functions():
-        assert f"- {helper}(" in user["content"]
-    assert "explore_until_goal (the user asks you to build on it)" in user["content"]
-    assert "Cells are 1 m wide." in user["content"] and "argmax" in system["content"]
+        assert f"- {helper}(" in user
+    assert "explore_until_goal (the user asks you to build on it)" in user
+    assert "Cells are 1 m wide." in turns[-1]["content"] and "argmax" in system["content"]
     assert request_schema(context)["properties"]["env"] == {"const": ENV}
     with pytest.raises(BehaviorSpecError, match="unknown behavior"):
         PromptContext.build(gym.make(ENV), library, ("nope",))

@@ -18,7 +18,7 @@ from vlb_gym.abstractor.backends import (
     probe_reply_ok,
     shape_rejected,
 )
-from vlb_gym.abstractor.grammar import MAX_STRING_LENGTH, request_schema
+from vlb_gym.abstractor.grammar import MAX_GRAPH_ITEMS, MAX_STRING_LENGTH, request_schema
 from vlb_gym.abstractor.paper import PAPER, PROMPTS
 from vlb_gym.abstractor.validate import validate_reply
 from vlb_gym.cli import main
@@ -239,7 +239,7 @@ def test_the_request_schema_is_grammar_friendly():
             if not isinstance(part, dict):
                 continue
             assert part.get("maxLength", 0) <= MAX_STRING_LENGTH
-            assert part.get("maxItems", 0) <= 8 and "maxProperties" not in part
+            assert part.get("maxItems", 0) <= MAX_GRAPH_ITEMS and "maxProperties" not in part
             assert "patternProperties" not in part and "propertyNames" not in part
             if "properties" in part:
                 assert part["additionalProperties"] is False
@@ -274,7 +274,8 @@ def test_the_schema_goes_with_the_request_and_the_compact_prompt_shows_an_exampl
     with ChatServer([("reply", REPLY)], dialect="openai") as server:
         assert synthesize(server, tmp_path, "openai") == 0
     body = server.requests[0]
-    prompt = body["messages"][1]["content"]
+    prompt = "\n".join(m["content"] for m in body["messages"])
     assert body["response_format"]["json_schema"]["schema"]["properties"]["nodes"]
-    assert "Example (of another task):" in prompt and '"$defs"' not in prompt
+    assert [m["role"] for m in body["messages"]] == ["system", "user", "assistant", "user"]
+    assert json.loads(body["messages"][2]["content"])["nodes"] and '"$defs"' not in prompt
     assert '"maxLength": 2000' not in prompt

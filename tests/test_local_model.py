@@ -8,7 +8,7 @@ import os
 
 import pytest
 
-from vlb_gym.abstractor.local import LocalBackend
+from vlb_gym.abstractor.local import RESAMPLE_TEMPERATURE, RESAMPLES, LocalBackend
 from vlb_gym.abstractor.paper import PROMPTS
 from vlb_gym.abstractor.synthesize import SynthesisError, synthesize
 from vlb_gym.cli import main
@@ -85,6 +85,37 @@ def test_a_real_model_replies_in_the_behavior_shape_every_time(local_model, user
     for record in transcript["rounds"]:
         assert record["layer"] not in ("json", "schema", "backend"), record["error"]
         json.loads(record["reply"])
-        assert record["usage"]["reply_tokens"] > 0 and record["usage"]["prompt_tokens"] > 500
+        assert all(d["reply_tokens"] > 0 and d["prompt_tokens"] > 500 for d in record["usage"])
+    draws = sum(len(record["usage"]) for record in transcript["rounds"])
     assert seen[0].tokens == 0 and seen[-1].done
-    assert [d.request for d in seen if d.done] == list(range(1, len(transcript["rounds"]) + 1))
+    assert [d.request for d in seen if d.done] == list(range(1, draws + 1))
+
+
+def test_a_reply_that_repeats_a_rejected_one_is_drawn_again_warmer(monkeypatch):
+    """Greedy decoding answers a repair with the reply it was told is wrong; the backend draws
+    again at RESAMPLE_TEMPERATURE or more, with new seeds, at most RESAMPLES times."""
+    backend = object.__new__(LocalBackend)
+    backend.temperature, backend.seed, backend.usage = 0.0, 5, []
+    replies = iter(["A", "A", "B", "C"])
+    draws = []
+
+    def decode(messages, schema, temperature, seed):
+        draws.append((temperature, seed))
+        backend.usage.append({"request": len(draws)})
+        return next(replies)
+
+    monkeypatch.setattr(backend, "_decode", decode)
+    first = [{"role": "user", "content": "task"}]
+    assert backend.complete(first) == "A" and draws == [(0.0, 5)]
+    repair = first + [{"role": "assistant", "content": "A"}, {"role": "user", "content": "no"}]
+    assert backend.complete(repair) == "B"
+    assert draws[1:] == [(0.0, 5), (RESAMPLE_TEMPERATURE, 6)]
+    assert backend.usage[1]["repeated"] and "repeated" not in backend.usage[2]
+    assert backend.complete(repair) == "C" and len(draws) == 4  # new replies are kept as drawn
+
+    stuck = object.__new__(LocalBackend)
+    stuck.temperature, stuck.seed, stuck.usage = 0.9, 0, []
+    monkeypatch.setattr(stuck, "_decode", lambda m, s, t, seed: stuck.usage.append(
+        {"temperature": t}) or "A")
+    assert stuck.complete(repair) == "A" and len(stuck.usage) == 1 + RESAMPLES
+    assert {d["temperature"] for d in stuck.usage} == {0.9}

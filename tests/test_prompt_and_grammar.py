@@ -1,4 +1,4 @@
-"""The compact prompt (v2) against v1, its worked examples, and the request schema compiled by
+"""The compact prompts (v2, v3) against v1, their worked examples, and the request schema compiled by
 real grammar compilers: llguidance (llama.cpp's optional engine, vLLM, SGLang) and outlines-core
 (outlines, vLLM, TGI) in the default suite, llama.cpp's own where llama-cpp-python is installed."""
 
@@ -22,7 +22,12 @@ from vlb_gym.core.library import BehaviorLibrary, compile_spec
 from vlb_gym.core.spec import parse_spec
 
 ENVS = ("VLB-GridExplore-v0", "VLB-Scoop-v0")
-EXAMPLES = resources.files("vlb_gym.abstractor") / "prompts" / "v2" / "examples"
+PROMPTS_DIR = resources.files("vlb_gym.abstractor") / "prompts"
+
+
+def examples(env_id: str, version: str = PROMPT_VERSION) -> list[dict]:
+    shipped = json.loads((PROMPTS_DIR / version / "examples" / f"{env_id}.json").read_text())
+    return shipped if isinstance(shipped, list) else [shipped]
 
 
 @pytest.fixture
@@ -36,16 +41,18 @@ def prompt_chars(env_id: str, library: BehaviorLibrary, version: str) -> int:
 
 
 @pytest.mark.parametrize("env_id", ENVS)
-def test_v2_is_the_default_and_under_half_of_v1(env_id, library):
+def test_v3_is_the_default_and_the_compact_prompts_are_under_half_of_v1(env_id, library):
     """Characters here; tokens (Qwen2.5's tokenizer) in benchmarks/prompt_tokens.py."""
-    assert PROMPT_VERSION == "v2"
-    assert prompt_chars(env_id, library, "v2") < 0.5 * prompt_chars(env_id, library, "v1")
+    assert PROMPT_VERSION == "v3"
+    for version in ("v2", "v3"):
+        assert prompt_chars(env_id, library, version) < 0.5 * prompt_chars(env_id, library, "v1")
 
 
-def test_v2_keeps_what_the_model_needs(library):
+def test_the_compact_prompt_keeps_what_the_model_needs(library):
     env = gym.make(ENVS[0])
     context = PromptContext.build(env, library, ("explore_until_goal",))
-    system, user = (m["content"] for m in build_messages("Find a goal.", context, "Cells: 1 m."))
+    system, *turns = build_messages("Find a goal.", context, "Cells: 1 m.")
+    system, user = system["content"], "\n".join(turn["content"] for turn in turns)
     for name, primitive in env.unwrapped.primitives.items():
         assert f"- {name}: {primitive.description} Space: integers in [0, 10) x [0, 10)." in user
     for signature in env.unwrapped.make_helpers().describe():
@@ -53,8 +60,13 @@ def test_v2_keeps_what_the_model_needs(library):
     for name in ("explore_until_goal", "find_goal_and_oscillate"):
         assert f"- {name}" in user
     assert "explore_until_goal (the user asks you to build on it)" in user
-    assert json.dumps(json.loads((EXAMPLES / f"{ENVS[0]}.json").read_text())) in user
-    assert user.rstrip().endswith("Task: Find a goal.") and "Cells: 1 m." in user
+    composing, standalone = examples(ENVS[0])
+    assert json.dumps(composing) in user and json.dumps(standalone) not in user
+    # the example is a solved request of its own, a turn before the task
+    assert [turn["role"] for turn in turns] == ["user", "assistant", "user"]
+    assert turns[0]["content"].rstrip().endswith(f"Task: {composing['description']}")
+    assert turns[1]["content"] == json.dumps(composing)
+    assert turns[2]["content"] == "Further information: Cells: 1 m.\n\nTask: Find a goal.\n"
     assert "argmax" in system and '"terminals"' in system
     with pytest.raises(ValueError, match="unknown prompt version"):
         build_messages("x", context, version="v0")
@@ -62,7 +74,8 @@ def test_v2_keeps_what_the_model_needs(library):
 
 def test_the_prompt_puts_the_task_last_so_requests_share_a_prefix(library):
     context = PromptContext.build(gym.make(ENVS[0]), library)
-    one, two = (build_messages(task, context)[1]["content"] for task in ("Go home.", "Patrol."))
+    one, two = ("".join(m["content"] for m in build_messages(task, context))
+                for task in ("Go home.", "Patrol."))
     shared = next(i for i, (a, b) in enumerate(zip(one, two)) if a != b)
     assert one[:shared].endswith("Task: ") and one[shared:].rstrip() == "Go home."
 
@@ -73,17 +86,30 @@ def test_space_text():
     assert space_text(gym.spaces.Box(-1.0, 2.5, (2,))) == "2 numbers in [-1, 2.5] x [-1, 2.5]"
 
 
-def test_the_grid_example_passes_every_layer(library):
-    text = (EXAMPLES / f"{ENVS[0]}.json").read_text()
-    compiled = validate_reply(text, gym.make(ENVS[0]), library, source="example")
-    assert compiled.name == "sense_three_cells"
+def test_an_example_that_composes_a_behavior_is_shown_only_with_that_behavior(tmp_path):
+    bare = BehaviorLibrary(tmp_path, shipped=False)
+    system, *turns = build_messages("Go.", PromptContext.build(gym.make(ENVS[0]), bare))
+    user = "\n".join(turn["content"] for turn in turns)
+    composing, standalone = examples(ENVS[0])
+    assert any("behavior" in node for node in composing["nodes"])
+    assert json.dumps(composing) not in user and json.dumps(standalone) in user
 
 
-def test_the_scoop_example_compiles(library):
+@pytest.mark.parametrize("version", ["v2", "v3"])
+def test_the_grid_examples_pass_every_layer(version, library):
+    env = gym.make(ENVS[0])
+    for doc in examples(ENVS[0], version):
+        compiled = validate_reply(json.dumps(doc), env, library, source="example")
+        assert compiled.name == doc["name"]
+
+
+@pytest.mark.parametrize("version", ["v2", "v3"])
+def test_the_scoop_examples_compile(version, library):
     """Every layer but the dry run (physics: seconds per scoop; the example's pose is the
     library pose moved up 5 cm)."""
-    spec = parse_spec((EXAMPLES / f"{ENVS[1]}.json").read_text(), "example")
-    compile_spec(spec, gym.make(ENVS[1]), "example", None, library, names_only=True)
+    for doc in examples(ENVS[1], version):
+        spec = parse_spec(json.dumps(doc), "example")
+        compile_spec(spec, gym.make(ENVS[1]), "example", None, library, names_only=True)
 
 
 @pytest.mark.parametrize("replies", ["behavior1", "behavior2"])
@@ -94,8 +120,8 @@ def test_the_paper_replies_still_validate_with_the_compact_prompt(replies, libra
         library.save(synthesize(ENVS[0], PROMPTS["behavior1"], first, library).compiled.spec)
     backend = ScriptedBackend.from_file(PAPER / f"{replies}.replies.json")
     result = synthesize(ENVS[0], PROMPTS[replies], backend, library, uses=uses)
-    assert result.transcript["prompt_version"] == "v2"
-    assert result.transcript["messages"][1]["content"].rstrip().endswith(PROMPTS[replies])
+    assert result.transcript["prompt_version"] == PROMPT_VERSION
+    assert result.transcript["messages"][-1]["content"].rstrip().endswith(PROMPTS[replies])
 
 
 # -- the request schema through real grammar compilers ------------------------------------------

@@ -17,8 +17,10 @@ schema keeps the shape of a behavior document and drops the limits:
 * a node is either a primitive node (``id``, ``primitive``) or, when the library has behaviors,
   a behavior node (``id``, ``behavior``): never both, never neither; primitive names and library
   behavior names are enums, as the env and the library are known when the request is made;
-* expression strings have no ``maxLength`` and no list has a ``maxItems`` above 8; names keep
-  their pattern (no length);
+* expression strings have no ``maxLength``; descriptions have ``MAX_STRING_LENGTH`` and the
+  node and edge lists ``MAX_GRAPH_ITEMS``, small bounds that grammar compilers handle and that
+  stop a model from rambling in prose or unrolling a loop into copies of nodes until its token
+  budget cuts the reply off (both seen with real models); names keep their pattern (no length);
 * maps (``variables``, ``functions``, an edge's ``set``) are ``additionalProperties: SCHEMA``
   rather than ``patternProperties``.
 
@@ -35,8 +37,11 @@ from typing import Any
 import gymnasium as gym
 
 NAME_PATTERN = "^[A-Za-z][A-Za-z0-9_]*$"
-MAX_STRING_LENGTH = 200
-"""No string in the request schema may declare a ``maxLength`` above this (none does today)."""
+MAX_STRING_LENGTH = 300
+"""The ``maxLength`` of descriptions, the longest in the request schema (a task description
+copied into the behavior's fits)."""
+MAX_GRAPH_ITEMS = 16
+"""The ``maxItems`` of nodes and edges, the largest in the request schema."""
 
 
 def _name() -> dict[str, Any]:
@@ -48,7 +53,7 @@ def _expression() -> dict[str, Any]:
 
 
 def _text() -> dict[str, Any]:
-    return {"type": "string"}
+    return {"type": "string", "maxLength": MAX_STRING_LENGTH}
 
 
 def _optional(schema: dict[str, Any]) -> dict[str, Any]:
@@ -112,8 +117,10 @@ def grammar_schema(env_id: str, primitives: Iterable[str], behaviors: Iterable[s
             "env": {"const": env_id},
             "variables": {"type": "object", "additionalProperties": _expression()},
             "functions": {"type": "object", "additionalProperties": {"$ref": "#/$defs/Function"}},
-            "nodes": {"type": "array", "items": {"$ref": "#/$defs/Node"}, "minItems": 1},
-            "edges": {"type": "array", "items": {"$ref": "#/$defs/Edge"}},
+            "nodes": {"type": "array", "items": {"$ref": "#/$defs/Node"}, "minItems": 1,
+                      "maxItems": MAX_GRAPH_ITEMS},
+            "edges": {"type": "array", "items": {"$ref": "#/$defs/Edge"},
+                      "maxItems": MAX_GRAPH_ITEMS},
             "start": {"$ref": "#/$defs/Start"},
             "terminals": {"type": "array", "items": _name(), "minItems": 1}},
         "required": ["name", "description", "env", "variables", "functions", "nodes", "edges",

@@ -28,6 +28,10 @@ DEFAULT_MAX_TOKENS = 1500
 """Tokens per reply; a behavior document of the paper's size is 250-500."""
 DEFAULT_TIMEOUT = 1800.0
 """Seconds per reply: a 1.5B model on two CPU cores generates 3-10 tokens/s."""
+RESAMPLES = 2
+"""Draws after the first when a reply repeats a rejected one."""
+RESAMPLE_TEMPERATURE = 0.7
+"""The least temperature of those draws: greedy decoding would repeat the same reply."""
 
 
 @dataclass(frozen=True)
@@ -119,6 +123,22 @@ class LocalBackend:
         return self._grammars[key]
 
     def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
+        """One reply. A reply identical to an earlier assistant turn -- a reply the repair loop
+        rejected (greedy decoding repeats itself through repair rounds) or the prompt's worked
+        example, copied -- is drawn again, at least at ``RESAMPLE_TEMPERATURE`` with a new
+        seed, up to ``RESAMPLES`` times; ``usage`` records each draw."""
+        rejected = {m["content"] for m in messages if m["role"] == "assistant"}
+        reply = self._decode(messages, schema, self.temperature, self.seed)
+        for draw in range(1, RESAMPLES + 1):
+            if reply not in rejected:
+                break
+            self.usage[-1]["repeated"] = True
+            reply = self._decode(messages, schema, max(self.temperature, RESAMPLE_TEMPERATURE),
+                                 self.seed + draw)
+        return reply
+
+    def _decode(self, messages: Sequence[Message], schema: dict[str, Any] | None,
+                temperature: float, seed: int) -> str:
         request = len(self.usage) + 1
         grammar = self.grammar(schema) if schema is not None else None
         started = time.perf_counter()
@@ -127,8 +147,8 @@ class LocalBackend:
         if self.progress is not None:
             self.progress(Decoding(request, None, 0, 0.0, None))
         stream = self.llm.create_chat_completion(
-            messages=list(messages), grammar=grammar, temperature=self.temperature,
-            max_tokens=self.max_tokens, seed=self.seed, stream=True)
+            messages=list(messages), grammar=grammar, temperature=temperature,
+            max_tokens=self.max_tokens, seed=seed, stream=True)
         try:
             for chunk in stream:
                 choice = chunk["choices"][0]
@@ -153,7 +173,8 @@ class LocalBackend:
             self.progress(Decoding(request, prompt_tokens, tokens, seconds, prompt_seconds, True))
         self.usage.append({"request": request, "prompt_tokens": prompt_tokens,
                            "reply_tokens": tokens, "prompt_seconds": prompt_seconds,
-                           "seconds": round(seconds, 3), "finish": finish})
+                           "seconds": round(seconds, 3), "finish": finish,
+                           "temperature": temperature, "seed": seed})
         if finish == "timeout":
             raise BackendError(f"no complete reply within --timeout {self.timeout:g} s "
                                f"({tokens} tokens generated)")

@@ -3,10 +3,16 @@
 The templates are versioned files in ``prompts/<version>/``; the primitive list, the helper
 signatures and the behavior library are generated from the live environment and library, never
 hand-copied. ``v1`` shows the request schema and every library behavior's whole document; ``v2``
-(the default) is compact -- the graph's rules, one worked example per environment
+is compact -- the graph's rules, one worked example per environment
 (``prompts/v2/examples/ENV_ID.json``, else the environment's first library behavior) and the
 library as names and descriptions -- at well under half of ``v1``'s tokens (see
-``benchmarks/prompt_tokens.py``): on a CPU, prompt processing dominates a request. :func:`request_schema` is the grammar-friendly behavior schema of
+``benchmarks/prompt_tokens.py``): on a CPU, prompt processing dominates a request. ``v3`` (the
+default) adds the rules small models broke in the certified-synthesis evaluation (a new name,
+no declarations that shadow helpers, loops by edges rather than copied nodes) and shows the
+first of its examples that the library allows: one that composes a library behavior with a
+loop where the library has it.
+
+:func:`request_schema` is the grammar-friendly behavior schema of
 :mod:`vlb_gym.abstractor.grammar` with this request's primitive and behavior names as enums, for
 backends that enforce structured output (and shown in the prompt).
 """
@@ -29,8 +35,8 @@ from vlb_gym.core.spec import BehaviorSpecError
 from .backends import Message
 from .grammar import grammar_schema
 
-PROMPT_VERSIONS = ("v1", "v2")
-PROMPT_VERSION = "v2"
+PROMPT_VERSIONS = ("v1", "v2", "v3")
+PROMPT_VERSION = "v3"
 
 
 def _template(name: str, version: str) -> Template:
@@ -40,12 +46,19 @@ def _template(name: str, version: str) -> Template:
     return Template(path.read_text())
 
 
-def _example(env_id: str, behaviors: list[dict[str, Any]]) -> dict[str, Any] | None:
-    """The worked example of ``env_id``'s prompt: its shipped example, else its first library
-    behavior, else none."""
-    path = resources.files("vlb_gym.abstractor") / "prompts" / "v2" / "examples" / f"{env_id}.json"
+def _example(env_id: str, behaviors: list[dict[str, Any]], version: str
+             ) -> dict[str, Any] | None:
+    """The worked example of ``env_id``'s prompt: the first of those shipped for ``version``
+    (``prompts/<version>/examples/ENV_ID.json``: one document in v2, a list in order of
+    preference from v3) whose behavior nodes are all in this library; else the env's first
+    library behavior; else none."""
+    path = resources.files("vlb_gym.abstractor") / "prompts" / version / "examples" / f"{env_id}.json"
     if path.is_file():
-        return json.loads(path.read_text())
+        shipped = json.loads(path.read_text())
+        available = {b["name"] for b in behaviors}
+        return next((doc for doc in (shipped if isinstance(shipped, list) else [shipped])
+                     if {n["behavior"] for n in doc["nodes"] if "behavior" in n} <= available),
+                    None)
     return behaviors[0]["document"] if behaviors else None
 
 
@@ -73,7 +86,6 @@ class PromptContext:
     behaviors: list[dict[str, Any]]  # name, description, document
     uses: tuple[str, ...]
     skipped: dict[str, str]  # library behaviors that do not load -> why
-    example: dict[str, Any] | None = None  # the worked example (a behavior document)
 
     @classmethod
     def build(cls, env: gym.Env, library: BehaviorLibrary, uses: tuple[str, ...] = ()
@@ -98,8 +110,7 @@ class PromptContext:
                                                               exclude_defaults=True)})
         helpers = interface.make_helpers()
         notes = " ".join((inspect.getdoc(type(helpers)) or "").split("\n\n", 1)[-1].split())
-        return cls(env_id, primitives, helpers.describe(), notes, behaviors, tuple(uses), skipped,
-                   _example(env_id, behaviors))
+        return cls(env_id, primitives, helpers.describe(), notes, behaviors, tuple(uses), skipped)
 
 
 def request_schema(context: PromptContext) -> dict[str, Any]:
@@ -124,16 +135,28 @@ def build_messages(description: str, context: PromptContext, info: str = "",
             f"  {json.dumps(b['document'])}" for b in context.behaviors) or "(none)",
             "schema": json.dumps(request_schema(context))}
     else:
+        example = _example(context.env_id, context.behaviors, version)
         primitives = "\n".join(f"- {name}: {p['description']} Space: {p['brief']}."
                                for name, p in context.primitives.items())
         fields = {"library": "\n".join(
             f"- {b['name']}{_USES if b['name'] in context.uses else ''}: {b['description']}"
             for b in context.behaviors) or "(none)",
-            "example": json.dumps(context.example) if context.example else "(none)"}
-    user = _template("user", version).substitute(
-        env_id=context.env_id, primitives=primitives, helpers=helpers,
-        info=info.strip() or "(none)", description=description.strip(), **fields)
-    return [{"role": "system", "content": system}, {"role": "user", "content": user}]
+            "example": json.dumps(example) if example else "(none)"}
+    task = {"info": info.strip() or "(none)", "description": description.strip()}
+    user = _template("user", version).safe_substitute(
+        env_id=context.env_id, primitives=primitives, helpers=helpers, **fields, **task)
+    if version in ("v1", "v2"):
+        return [{"role": "system", "content": system}, {"role": "user", "content": user}]
+    # v3: the worked example is a solved request of its own, a turn before the task
+    ask = _template("task", version)
+    if example is None:
+        return [{"role": "system", "content": system},
+                {"role": "user", "content": f"{user}\n{ask.substitute(task)}"}]
+    shown = {"info": "(none)", "description": example["description"]}
+    return [{"role": "system", "content": system},
+            {"role": "user", "content": f"{user}\n{ask.substitute(shown)}"},
+            {"role": "assistant", "content": json.dumps(example)},
+            {"role": "user", "content": ask.substitute(task)}]
 
 
 _USES = " (the user asks you to build on it)"

@@ -65,7 +65,9 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
     schema = request_schema(context)
     transcript["messages"] = list(messages)
     error: BehaviorSpecError | None = None
+    usage = getattr(backend, "usage", None)  # a local model's draws: tokens and seconds
     for round_number in range(1, max_rounds + 1):
+        drawn = len(usage) if usage is not None else 0
         try:
             reply = backend.complete(messages, schema)
         except BackendError as exc:
@@ -76,9 +78,8 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
             raise SynthesisError(f"{cause}the language model failed: {exc}", transcript) from None
         _note_structured_output(transcript, backend)
         record = {"round": round_number, "reply": reply, "error": None, "layer": None}
-        usage = getattr(backend, "usage", None)  # a local model's tokens and seconds
         if usage:
-            record["usage"] = usage[-1]
+            record["usage"] = usage[drawn:]
         transcript["rounds"].append(record)
         try:
             compiled = validate_reply(reply, env, library, name, f"reply {round_number}")

@@ -9,10 +9,12 @@ every node) -- before anything runs, and gives a :class:`CompiledBehavior`, whic
 from __future__ import annotations
 
 import ast
+import inspect
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
+from typing import Any
 
 import networkx as nx
 
@@ -123,9 +125,15 @@ def _check_references(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
                 raise too_deep
         nodes[node.id] = _Node(node.id, node.primitive, child)
 
+    def unknown(node_id: str) -> str:
+        known = ", ".join(nodes) if len(nodes) <= 12 else f"{len(nodes)} of them"
+        return f"unknown node {node_id!r} (the nodes: {known})"
+
     def check_target(node_id: str, param: str | None, place: str, node_field: str) -> None:
         if node_id not in nodes:
-            raise fail(node_field, f"unknown node {node_id!r}")
+            raise fail(node_field, unknown(node_id) + (
+                "; an edge always leads to a node: a behavior ends at a terminal node when "
+                "none of its edges can be taken" if node_field.endswith(".to") else ""))
         if nodes[node_id].child is not None and param is not None:
             raise fail(place, f"node {node_id!r} runs the whole behavior "
                               f"{nodes[node_id].child.name!r} and takes no param (a node that "
@@ -137,7 +145,7 @@ def _check_references(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
 
     for i, edge in enumerate(spec.edges):
         if edge.source not in nodes:
-            raise fail(f"edges[{i}].from", f"unknown node {edge.source!r}")
+            raise fail(f"edges[{i}].from", unknown(edge.source))
         check_target(edge.to, edge.param, f"edges[{i}].param", f"edges[{i}].to")
         for var in edge.set:
             if var not in spec.variables:
@@ -145,7 +153,7 @@ def _check_references(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
     check_target(spec.start.node, spec.start.param, "start.param", "start.node")
     for i, terminal in enumerate(spec.terminals):
         if terminal not in nodes:
-            raise fail(f"terminals[{i}]", f"unknown node {terminal!r}")
+            raise fail(f"terminals[{i}]", unknown(terminal))
     return nodes
 
 
@@ -170,6 +178,18 @@ def _check_graph(spec: BehaviorSpec, nodes: dict[str, _Node], source: str) -> nx
     return graph
 
 
+def _taken(name: str, helpers: dict[str, Any]) -> str:
+    """Why a declared ``name`` is not free: a helper (with its signature, so a model knows to
+    call it), a builtin, or an earlier declaration."""
+    if name in helpers:
+        signature = str(inspect.signature(helpers[name])).replace("'", "")
+        return (f"{name!r} is already a helper, {name}{signature}: call it in expressions "
+                f"instead of declaring it, or choose another name")
+    if name in BUILTINS:
+        return f"{name!r} is already a builtin function; choose another name"
+    return f"{name!r} is declared twice (variables and functions share one namespace)"
+
+
 class _Expressions:
     """Layer 'expressions': every expression checked against the whitelist and compiled."""
 
@@ -183,8 +203,7 @@ class _Expressions:
         for kind, declared in (("variables", spec.variables), ("functions", spec.functions)):
             for name in declared:
                 if name in names:
-                    raise self.fail(f"{kind}.{name}", "name is already taken by a helper, a "
-                                                      "builtin or another declaration")
+                    raise self.fail(f"{kind}.{name}", _taken(name, helpers))
                 names[name] = VALUE if kind == "variables" else len(spec.functions[name].args)
         self.names = names
         functions = []
