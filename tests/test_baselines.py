@@ -116,6 +116,50 @@ def test_cli_verify_policy_and_mismatch(tmp_path, capsys):
                  "--epsilon", "0.1"]) == 2
 
 
+@pytest.mark.parametrize("task", sorted(TASKS))
+def test_an_image_agent_with_the_bonus_round_trips_through_the_cli(task, tmp_path, capsys):
+    """vlb baseline train --observation image --bonus -> saved agent -> vlb verify --policy:
+    the verifier rebuilds the agent's pictures from the plain env's observations, and its
+    actions are the trained model's own on the training env's images."""
+    assert main(["baseline", "train", GRID, "--task", task, "--algo", "maskable_ppo",
+                 "--observation", "image", "--bonus", "0.02", "--budgets", "128",
+                 "--n-envs", "1", "--seed", "3", "--out", str(tmp_path)]) == 0
+    saved = tmp_path / f"{task}_maskable_ppo-image-bonus0p02-s3_128.zip"
+    meta = json.loads(saved.with_suffix(".json").read_text())
+    assert (meta["observation"], meta["bonus"], meta["seed"]) == ("image", 0.02, 3)
+    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
+                 "--report", str(tmp_path / "r.json")]) == 0
+    assert json.loads((tmp_path / "r.json").read_text())["episodes"] == 4
+
+    from vlb_gym.baselines.train import SB3Policy
+    trained = make_env(GRID, TASKS[task].env_kwargs, "image", 0.02)
+    plain = gym.make(GRID, **TASKS[task].env_kwargs)
+    policy = SB3Policy(saved, plain)
+    for seed in range(2):
+        image, _ = trained.reset(seed=seed)
+        obs, _ = plain.reset(seed=seed)
+        policy.reset()
+        for _ in range(5):
+            action, _ = policy.predict(obs)
+            expected, _ = policy.model.predict(image, deterministic=True,
+                                               action_masks=trained.action_masks())
+            assert tuple(action) == tuple(trained.env.action(int(expected)))  # FlatActions
+            image, *_, done, cut, _ = trained.step(int(expected))
+            obs, *_ = plain.step(action)
+            if done or cut:
+                break
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--observation", "pixels"], "invalid choice: 'pixels'"),
+    (["--bonus", "2"], "2 must lie between 0 and 1"),
+    (["--bonus", "x"], "'x' is not a number")])
+def test_bad_representation_options_are_usage_errors(args, message, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["baseline", "train", GRID, "--task", "find_goal", "--algo", "ppo", *args])
+    assert exit_.value.code == 2 and message in capsys.readouterr().err
+
+
 def test_policy_campaigns_replay(tmp_path, capsys):
     """A --policy campaign's replay hint names --policy, and its stored episodes replay."""
     saved = train(TASKS["find_goal"], "ppo", tmp_path, budgets=(128,), n_envs=1)[0]
@@ -137,14 +181,45 @@ def test_policy_campaigns_replay(tmp_path, capsys):
     assert "reproduces the stored record" in out and "[node" not in out  # an agent: no nodes
 
 
-def test_comparison_benchmark_at_small_scale(tmp_path, capsys):
-    assert main(["bench", "compare", "--out", str(tmp_path), "--episodes", "6", "--budgets",
-                 "256", "--algos", "maskable_ppo", "--n-envs", "2"]) == 0
-    table = (tmp_path / "compare.md").read_text()
+def test_comparison_benchmark_at_small_scale_and_its_reuse(tmp_path, capsys):
+    args = ["bench", "compare", "--out", str(tmp_path), "--episodes", "6", "--budgets", "128",
+            "--agents", "maskable_ppo:image:0.02", "--seeds", "2", "--n-envs", "1",
+            "--tasks", "find_goal"]
+    assert main(args) == 0
+    first = capsys.readouterr().out
+    assert first.count("find_goal: trained maskable_ppo-image-bonus0.02 seed") == 2
     rows = json.loads((tmp_path / "compare.json").read_text())
-    assert {(r["task"], r["kind"]) for r in rows} == {
-        (t, k) for t in TASKS for k in ("graph", "synthesized graph", "rl")}
+    manifest = json.loads((tmp_path / "agents" / "manifest.json").read_text())
+    assert [(m["seed"], m["budget"]) for m in manifest] == [(0, 128), (1, 128)]
+    assert all(m["steps_per_second"] > 0 and m["observation"] == "image" for m in manifest)
+    assert [(r["kind"], r["seed"], r["train_steps"]) for r in rows] == [
+        ("graph", None, None), ("synthesized graph", None, None),
+        ("rl", 0, manifest[0]["steps"]), ("rl", 1, manifest[1]["steps"])]
     graphs = [r for r in rows if r["kind"] != "rl"]
     assert all(r["successes"] == 6 for r in graphs)  # same seeds, the graphs never fail
-    assert table.count("| find_goal |") == 3 and (tmp_path / "compare.png").stat().st_size > 1000
+    assert all(r["episodes_to_certify"] == 59 for r in graphs)  # no failures: vlb plan's 59
+    for r in rows:  # an agent's rate is its own failures over N
+        rate = 1 - r["successes"] / 6
+        assert (r["episodes_to_certify"] == float("inf")) == (rate >= 0.05)
+    table = (tmp_path / "compare.md").read_text()
+    assert f"| find_goal | maskable_ppo-image-bonus0.02 | rl | {manifest[0]['steps']} | 2 |" \
+        in table
+    assert (tmp_path / "compare.png").stat().st_size > 1000
+    assert (tmp_path / "compare.csv").read_text().count("\n") == 1 + len(rows)
     assert (tmp_path / "behaviors" / "goal_and_back.json").exists()
+
+    assert main(args + ["--reuse"]) == 0  # the same agents, verified again, no training
+    assert "trained" not in capsys.readouterr().out
+    again = json.loads((tmp_path / "compare.json").read_text())
+    assert [(r["successes"], r["train_steps"]) for r in again] == \
+        [(r["successes"], r["train_steps"]) for r in rows]
+
+
+@pytest.mark.parametrize("spec, message", [
+    ("dqn", "ALGO one of"), ("ppo:pixels", "observation must be one of"),
+    ("ppo:flat:x", "the bonus is not a number"), ("ppo:image:3", "between 0 and 1"),
+    ("ppo:image:0.1:9", "expected ALGO[:OBSERVATION[:BONUS]]")])
+def test_bad_agent_specs_are_usage_errors(spec, message, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["bench", "compare", "--agents", spec])
+    assert exit_.value.code == 2 and message in capsys.readouterr().err

@@ -1,27 +1,45 @@
 """The comparison benchmark: graphs (hand-written and synthesized) and RL agents, verified on the
-same env, task, sampling distribution, seeds, rho_B and bounds.
+same env, task, sampling distribution, reset seeds, rho_B and bounds.
 
-For each task it writes ``<out>/compare.md`` (a Markdown table) and ``<out>/compare.png`` (lower
-bound vs training steps for the agents, graphs as horizontal lines), plus ``compare.json``.
+Contestants: the task's hand-written graph, its synthesized graph, and every RL configuration
+(:class:`AgentSpec`: algorithm, observation, exploration bonus) trained with several seeds and
+checkpointed at every budget. Each is verified on the same N episodes; a row gives successes,
+the one-sided Clopper-Pearson lower bound, the confidence at eps, mean primitives and the
+**episodes needed to certify** P >= 1 - eps at 95% confidence given the row's failure rate
+(:func:`~.stats.episodes_to_certify`). Across seeds, the summary gives the IQM of the success
+rate with a bootstrap interval (:func:`~.stats.aggregate`).
+
+Writes ``<out>/compare.md`` (the tables), ``compare.csv`` and ``compare.json`` (one row per
+verified contestant), ``compare.png`` (success rate and lower bound against training steps,
+IQM and the band between the lowest and highest seed, graphs as horizontal lines), and
+``agents/manifest.json``: every trained agent (configuration, seed, budget, steps, wall time,
+env steps/s). With ``reuse`` the agents of the manifest whose files exist are verified again
+without training.
 """
 
 from __future__ import annotations
 
+import csv
 import json
+import math
 import platform
 import time
-from dataclasses import asdict, dataclass
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
+from vlb_gym.core.files import write_atomic
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 from vlb_gym.verify.policies import PolicyRef
-from vlb_gym.verify.report import Report
 
-from .configs import ALGORITHMS, SYNTHESES, TASKS, TaskConfig
+from .configs import DEFAULT_AGENTS, SYNTHESES, TASKS, AgentSpec, TaskConfig
+from .stats import aggregate, episodes_to_certify
 
 EPSILON = 0.05
 DELTA = 0.05
+CERTIFY_CONFIDENCE = 0.95
+MANIFEST = "manifest.json"
 
 
 @dataclass
@@ -29,28 +47,39 @@ class Row:
     task: str
     contestant: str
     kind: str  # graph, synthesized graph, rl
+    seed: int | None
     episodes: int
     successes: int
     lower_bound: float
     confidence: float
+    episodes_to_certify: float  # math.inf: not certifiable at eps
     mean_primitives: float
     train_steps: int | None
     train_seconds: float | None
+    steps_per_second: float | None
     verify_seconds: float
+
+    @property
+    def success_rate(self) -> float:
+        return self.successes / self.episodes
 
 
 def _verify(task: TaskConfig, policy: PolicyRef, episodes: int, seed: int,
-            workers: int) -> Report:
+            workers: int) -> dict:
     kwargs = {} if policy.kind == "sb3" else task.env_kwargs  # an agent brings its own
     return run_campaign(CampaignConfig(task.env_id, policy, episodes, EPSILON, DELTA, seed,
                                        kwargs), workers)
 
 
-def _row(task: TaskConfig, name: str, kind: str, report: dict, steps: int | None = None,
-         train_seconds: float | None = None) -> Row:
-    return Row(task.task, name, kind, report["episodes"], report["successes"],
-               report["lower_bound"], report["confidence"], report["mean_primitives"], steps,
-               train_seconds, report["wall_seconds"])
+def _row(task: TaskConfig, name: str, kind: str, report: dict, meta: dict | None = None
+         ) -> Row:
+    meta = meta or {}
+    rate = report["failures"] / report["episodes"]
+    return Row(task.task, name, kind, meta.get("seed"), report["episodes"], report["successes"],
+               report["lower_bound"], report["confidence"],
+               episodes_to_certify(rate, EPSILON, CERTIFY_CONFIDENCE), report["mean_primitives"],
+               meta.get("steps"), meta.get("wall_seconds"), meta.get("steps_per_second"),
+               report["wall_seconds"])
 
 
 def synthesized_graphs(library: BehaviorLibrary) -> None:
@@ -68,13 +97,32 @@ def synthesized_graphs(library: BehaviorLibrary) -> None:
             save(result, library)
 
 
+def _trained(manifest: list[dict], task: str, spec: AgentSpec, seed: int,
+             budgets: tuple[int, ...]) -> list[dict] | None:
+    """The manifest's checkpoints of this run at exactly ``budgets``, if all their files exist."""
+    found = {m["budget"]: m for m in manifest
+             if (m["task"], m["agent"], m["seed"]) == (task, spec.label, seed)}
+    if set(found) != set(budgets) or not all(Path(m["path"]).is_file()
+                                             for m in found.values()):
+        return None
+    return [found[b] for b in budgets]
+
+
 def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 100,
-            seed: int = 0, algorithms: tuple[str, ...] = ALGORITHMS,
+            seed: int = 0, agents: tuple[AgentSpec, ...] = DEFAULT_AGENTS, seeds: int = 3,
             budgets: tuple[int, ...] | None = None, n_envs: int = 4, workers: int = 1,
-            log=print) -> list[Row]:
+            subprocesses: bool = False, reuse: bool = False,
+            log: Callable[[str], None] = print) -> list[Row]:
+    """Verify the graphs and train (or, with ``reuse``, reload) and verify every agent of
+    ``agents`` with training seeds ``seed .. seed + seeds - 1``; write the results to
+    ``out``. Verification campaigns all use campaign seed ``seed``."""
     from .train import train
 
     out.mkdir(parents=True, exist_ok=True)
+    agents_dir = out / "agents"
+    manifest_path = agents_dir / MANIFEST
+    manifest: list[dict] = json.loads(manifest_path.read_text()) if reuse and \
+        manifest_path.is_file() else []
     rows: list[Row] = []
     # the synthesized behaviors (and their transcripts) are kept with the results; campaigns,
     # worker processes included, resolve behavior names in that library
@@ -82,67 +130,138 @@ def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 10
     synthesized_graphs(library)
     for name in tasks:
         task = TASKS[name]
+        steps = tuple(sorted(budgets or task.budgets))
         for behavior, kind in ((task.graph, "graph"), (task.synthesized, "synthesized graph")):
             ref = PolicyRef("behavior", behavior, str(library.directory))
-            report = _verify(task, ref, episodes, seed, workers)
-            rows.append(_row(task, behavior, kind, report))
-            log(f"{name}: {kind} {behavior}: {report['successes']}/{episodes}")
-        for algorithm in algorithms:
-            started = time.perf_counter()
-            checkpoints = train(task, algorithm, out / "agents", seed=seed, n_envs=n_envs,
-                                budgets=budgets, tensorboard=out / "tensorboard")
-            log(f"{name}: trained {algorithm} in {time.perf_counter() - started:.0f} s")
-            for path in checkpoints:
-                meta = json.loads(path.with_suffix(".json").read_text())
-                report = _verify(task, PolicyRef("sb3", str(path)), episodes, seed, workers)
-                rows.append(_row(task, algorithm, "rl", report, meta["steps"],
-                                 meta["wall_seconds"]))
-                log(f"{name}: {algorithm} @ {meta['steps']} steps: "
-                    f"{report['successes']}/{episodes}")
-    (out / "compare.json").write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
-    (out / "compare.md").write_text(markdown(rows, episodes, seed))
+            rows.append(_row(task, behavior, kind, _verify(task, ref, episodes, seed, workers)))
+            log(f"{name}: {kind} {behavior}: {rows[-1].successes}/{episodes}")
+        for spec in agents:
+            for run_seed in range(seed, seed + seeds):
+                checkpoints = _trained(manifest, name, spec, run_seed, steps) if reuse else None
+                if checkpoints is None:
+                    started = time.perf_counter()
+                    paths = train(task, spec.algorithm, agents_dir, seed=run_seed,
+                                  n_envs=n_envs, budgets=steps, observation=spec.observation,
+                                  bonus=spec.bonus, subprocesses=subprocesses)
+                    log(f"{name}: trained {spec.label} seed {run_seed} in "
+                        f"{time.perf_counter() - started:.0f} s")
+                    checkpoints = [{"task": name, "agent": spec.label, "seed": run_seed,
+                                    "budget": budget, "path": str(path), **asdict(spec),
+                                    **json.loads(path.with_suffix(".json").read_text())}
+                                   for budget, path in zip(steps, paths)]
+                    manifest = [m for m in manifest if (m["task"], m["agent"], m["seed"]) !=
+                                (name, spec.label, run_seed)] + checkpoints
+                    write_atomic(manifest_path, json.dumps(manifest, indent=2) + "\n")
+                for meta in checkpoints:
+                    report = _verify(task, PolicyRef("sb3", meta["path"]), episodes, seed,
+                                     workers)
+                    rows.append(_row(task, spec.label, "rl", report, meta))
+                    log(f"{name}: {spec.label} seed {run_seed} @ {meta['steps']} steps: "
+                        f"{report['successes']}/{episodes}")
+    write_atomic(out / "compare.json", json.dumps([asdict(r) for r in rows], indent=2) + "\n")
+    write_csv(rows, out / "compare.csv")
+    write_atomic(out / "compare.md", markdown(rows, episodes, seed))
     plot(rows, out / "compare.png")
     return rows
+
+
+def write_csv(rows: list[Row], path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, [f.name for f in fields(Row)])
+        writer.writeheader()
+        writer.writerows(asdict(r) for r in rows)
+
+
+def _number(x: float | None) -> str:
+    return "-" if x is None else f"{x:.0f}"
+
+
+def _certify_text(n: float) -> str:
+    return "never (rate >= eps)" if math.isinf(n) else f"{n:,.0f}"
+
+
+def summary(rows: list[Row]) -> list[dict]:
+    """Per task, contestant and training steps: the IQM of the success rate across seeds with
+    its bootstrap interval, the median episodes to certify, throughput."""
+    groups: dict[tuple, list[Row]] = {}
+    for r in rows:
+        groups.setdefault((r.task, r.contestant, r.kind, r.train_steps), []).append(r)
+    out = []
+    for (task, contestant, kind, steps), members in groups.items():
+        agg = aggregate([m.success_rate for m in members])
+        certify = sorted(m.episodes_to_certify for m in members)
+        speeds = [m.steps_per_second for m in members if m.steps_per_second]
+        out.append({"task": task, "contestant": contestant, "kind": kind, "steps": steps,
+                    "runs": agg.runs, "iqm": agg.iqm, "low": agg.low, "high": agg.high,
+                    "best": max(m.successes for m in members), "episodes": members[0].episodes,
+                    "certify": certify[(len(certify) - 1) // 2],
+                    "steps_per_second": sum(speeds) / len(speeds) if speeds else None})
+    return out
 
 
 def markdown(rows: list[Row], episodes: int, seed: int) -> str:
     lines = [f"N = {episodes} episodes per contestant, the same reset seeds (campaign seed "
              f"{seed}); eps = {EPSILON}, lower bound at confidence {1 - DELTA:g} (one-sided "
-             f"Clopper-Pearson). Machine: {platform.machine()}, Python "
+             f"Clopper-Pearson); *episodes to certify*: the least N that certifies "
+             f"P >= {1 - EPSILON:g} at {CERTIFY_CONFIDENCE:.0%} confidence with the failures the "
+             f"row's rate predicts. Machine: {platform.machine()}, Python "
              f"{platform.python_version()}.", "",
-             "| task | contestant | kind | successes | lower bound | confidence (eps 0.05) | "
-             "mean primitives | training steps | training s | verification s |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "Across training seeds (IQM of the success rate, 95% percentile-bootstrap interval; "
+             "episodes to certify: the median seed's):", "",
+             "| task | contestant | kind | training steps | seeds | success IQM [95% CI] | "
+             "best seed | episodes to certify | env steps/s |",
+             "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: |"]
+    for s in summary(rows):
+        lines.append(
+            f"| {s['task']} | {s['contestant']} | {s['kind']} | "
+            f"{s['steps'] if s['steps'] is not None else '-'} | {s['runs']} | "
+            f"{s['iqm']:.2f} [{s['low']:.2f}, {s['high']:.2f}] | {s['best']}/{s['episodes']} | "
+            f"{_certify_text(s['certify'])} | {_number(s['steps_per_second'])} |")
+    lines += ["", "Every contestant:", "",
+              "| task | contestant | kind | seed | successes | lower bound | confidence "
+              "(eps 0.05) | episodes to certify | mean primitives | training steps | "
+              "training s | verification s |",
+              "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
         lines.append(
-            f"| {r.task} | {r.contestant} | {r.kind} | {r.successes}/{r.episodes} | "
-            f"{r.lower_bound:.3f} | {r.confidence:.3f} | {r.mean_primitives:.1f} | "
-            f"{r.train_steps if r.train_steps is not None else '-'} | "
-            f"{f'{r.train_seconds:.0f}' if r.train_seconds is not None else '-'} | "
-            f"{r.verify_seconds:.1f} |")
+            f"| {r.task} | {r.contestant} | {r.kind} | "
+            f"{r.seed if r.seed is not None else '-'} | {r.successes}/{r.episodes} | "
+            f"{r.lower_bound:.3f} | {r.confidence:.3f} | {_certify_text(r.episodes_to_certify)} | "
+            f"{r.mean_primitives:.1f} | {r.train_steps if r.train_steps is not None else '-'} | "
+            f"{_number(r.train_seconds)} | {r.verify_seconds:.1f} |")
     return "\n".join(lines) + "\n"
 
 
 def plot(rows: list[Row], path: Path) -> None:
+    """Per task: success rate and lower bound against training steps (IQM across seeds, band
+    from the lowest to the highest seed), the graphs as horizontal lines."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from .stats import iqm
 
-    tasks = sorted({r.task for r in rows}, key=[r.task for r in rows].index)
-    fig, axes = plt.subplots(1, len(tasks), figsize=(6 * len(tasks), 4), squeeze=False)
-    for ax, task in zip(axes[0], tasks):
+    tasks = list(dict.fromkeys(r.task for r in rows))
+    fig, axes = plt.subplots(2, len(tasks), figsize=(6 * len(tasks), 7), squeeze=False)
+    for column, task in enumerate(tasks):
         mine = [r for r in rows if r.task == task]
-        for algorithm in sorted({r.contestant for r in mine if r.kind == "rl"}):
-            points = sorted((r.train_steps, r.lower_bound) for r in mine
-                            if r.kind == "rl" and r.contestant == algorithm)
-            ax.plot(*zip(*points), marker="o", label=algorithm)
-        for r, style in zip([r for r in mine if r.kind != "rl"], ("--", ":")):
-            ax.axhline(r.lower_bound, linestyle=style, color="k", label=f"{r.contestant} "
-                       f"({r.kind})")
-        ax.set(title=task, xlabel="training environment steps",
-               ylabel=f"lower bound on P[success] ({1 - DELTA:g})", ylim=(-0.02, 1.02))
-        ax.legend(fontsize=8)
+        for ax, (value, label) in zip(axes[:, column], (
+                (lambda r: r.success_rate, "success rate"),
+                (lambda r: r.lower_bound, f"lower bound on P[success] ({1 - DELTA:g})"))):
+            for contestant in dict.fromkeys(r.contestant for r in mine if r.kind == "rl"):
+                runs = [r for r in mine if r.kind == "rl" and r.contestant == contestant]
+                steps = sorted({r.train_steps for r in runs})
+                values = [[value(r) for r in runs if r.train_steps == s] for s in steps]
+                line, = ax.plot(steps, [iqm(v) for v in values], marker="o", label=contestant)
+                ax.fill_between(steps, [min(v) for v in values], [max(v) for v in values],
+                                color=line.get_color(), alpha=0.2)
+            for r, style in zip([r for r in mine if r.kind != "rl"], ("--", ":")):
+                ax.axhline(value(r), linestyle=style, color="k",
+                           label=f"{r.contestant} ({r.kind})")
+            ax.set(title=task, xlabel="training environment steps", ylabel=label,
+                   ylim=(-0.02, 1.02))
+            ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -6,6 +6,47 @@ from dataclasses import dataclass, field
 from typing import Any
 
 ALGORITHMS = ("ppo", "a2c", "maskable_ppo")
+OBSERVATIONS = ("flat", "image")
+"""How an agent sees the grid: ``flat``, the env's own observation (SB3's MultiInputPolicy
+flattens it, labels one-hot); ``image``, :class:`~.observations.LabelImage` through
+:class:`~.cnn.GridCNN`."""
+
+
+@dataclass(frozen=True)
+class AgentSpec:
+    """One RL configuration: ``ALGO[:OBSERVATION[:BONUS]]`` on the command line."""
+
+    algorithm: str
+    observation: str = "flat"
+    bonus: float = 0.0
+
+    @classmethod
+    def parse(cls, text: str) -> AgentSpec:
+        parts = text.split(":")
+        if not 1 <= len(parts) <= 3 or parts[0] not in ALGORITHMS:
+            raise ValueError(f"agent {text!r}: expected ALGO[:OBSERVATION[:BONUS]] with ALGO "
+                             f"one of {', '.join(ALGORITHMS)}")
+        observation = parts[1] if len(parts) > 1 else "flat"
+        if observation not in OBSERVATIONS:
+            raise ValueError(f"agent {text!r}: observation must be one of "
+                             f"{', '.join(OBSERVATIONS)}")
+        try:
+            bonus = float(parts[2]) if len(parts) > 2 else 0.0
+        except ValueError:
+            raise ValueError(f"agent {text!r}: the bonus is not a number") from None
+        if not 0 <= bonus <= 1:
+            raise ValueError(f"agent {text!r}: the bonus must lie between 0 and 1")
+        return cls(parts[0], observation, bonus)
+
+    @property
+    def label(self) -> str:
+        """``ALGO[-OBSERVATION][-bonusB]``, the defaults left out."""
+        return self.algorithm + (f"-{self.observation}" if self.observation != "flat" else "") \
+            + (f"-bonus{self.bonus:g}" if self.bonus else "")
+
+
+DEFAULT_AGENTS = (AgentSpec("maskable_ppo", "image", 0.02), AgentSpec("maskable_ppo", "image"),
+                  AgentSpec("maskable_ppo"))
 
 
 @dataclass(frozen=True)

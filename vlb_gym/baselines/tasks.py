@@ -24,7 +24,7 @@ import numpy as np
 from gymnasium import spaces
 
 from vlb_gym.envs.grid_explore import GridExploreEnv
-from vlb_gym.envs.grid_explore.types import GOAL, GridState
+from vlb_gym.envs.grid_explore.types import GOAL, UNEXPLORED, GridState
 
 TASKS = ("find_goal", "find_goal_and_oscillate")
 STEP_COST = 0.01
@@ -98,3 +98,36 @@ def make_grid_explore(task: str | None = None, **kwargs: Any) -> gym.Env:
     ``task`` is given (the documented shortcut ``gym.make(..., task=...)``)."""
     env = GridExploreEnv(**kwargs)
     return env if task is None else GridTask(env, task)
+
+
+class ExplorationBonus(gym.Wrapper, gym.utils.RecordConstructorArgs):
+    """Reward shaping for training only: ``bonus`` per cell newly labelled by a step (counted
+    from the observation's labels), added to the task's reward. It never enters rho_B: the
+    verifier builds its own env, without this wrapper, and scores certificates and finishing.
+    Over an episode the shaping adds ``bonus`` x (cells known at the end - cells known after
+    reset)."""
+
+    def __init__(self, env: gym.Env, bonus: float = 0.02):
+        if not (isinstance(bonus, (int, float)) and 0 <= bonus <= 1):
+            raise ValueError(f"bonus must be a number in [0, 1], not {bonus!r}")
+        gym.utils.RecordConstructorArgs.__init__(self, bonus=bonus)
+        super().__init__(env)
+        self.bonus = float(bonus)
+        self._known = 0
+
+    @staticmethod
+    def known(obs: dict[str, Any]) -> int:
+        """Cells whose label is not 'unexplored'."""
+        return int((np.asarray(obs["labels"]) != UNEXPLORED).sum())
+
+    def reset(self, **kwargs: Any):
+        obs, info = self.env.reset(**kwargs)
+        self._known = self.known(obs)
+        return obs, info
+
+    def step(self, action: Any):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        known = self.known(obs)
+        reward += self.bonus * (known - self._known)
+        self._known = known
+        return obs, reward, terminated, truncated, info

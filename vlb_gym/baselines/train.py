@@ -19,7 +19,9 @@ import numpy as np
 import vlb_gym  # noqa: F401 - registers the envs
 from vlb_gym.core.files import load_json, read_limited
 
-from .configs import ALGORITHMS, TaskConfig
+from .configs import ALGORITHMS, OBSERVATIONS, AgentSpec, TaskConfig
+from .observations import LabelImage, LabelImager
+from .tasks import ExplorationBonus
 from .wrappers import ActionMasks, FlatActions, admissible_actions
 
 
@@ -42,41 +44,82 @@ def _algorithm(name: str):
     raise ValueError(f"unknown algorithm {name!r}; choose one of {ALGORITHMS}")
 
 
-def make_env(env_id: str, env_kwargs: dict[str, Any]) -> gym.Env:
-    """The training env: flattened actions and their masks where the space is MultiDiscrete."""
+def make_env(env_id: str, env_kwargs: dict[str, Any], observation: str = "flat",
+             bonus: float = 0.0) -> gym.Env:
+    """The training env: the exploration bonus (``bonus`` > 0, training only), the
+    ``observation``, then flattened actions and their masks where the space is
+    MultiDiscrete."""
+    if observation not in OBSERVATIONS:
+        raise ValueError(f"observation must be one of {OBSERVATIONS}, not {observation!r}")
     env = gym.make(env_id, **env_kwargs)
+    if bonus:
+        env = ExplorationBonus(env, bonus)
+    if observation == "image":
+        env = LabelImage(env)
     if isinstance(env.action_space, gym.spaces.MultiDiscrete):
         return ActionMasks(FlatActions(env))
     return env
 
 
+def agent_name(config: TaskConfig, algorithm: str, observation: str = "flat",
+               bonus: float = 0.0, seed: int = 0) -> str:
+    """``TASK_`` + the configuration's :attr:`~.configs.AgentSpec.label` (``p`` for a decimal
+    point: a dot would start a file suffix) + ``-sSEED`` for a seed other than 0."""
+    label = AgentSpec(algorithm, observation, bonus).label.replace(".", "p")
+    return f"{config.task}_{label}" + (f"-s{seed}" if seed else "")
+
+
+def _policy(vec, observation: str) -> tuple[str, dict[str, Any]]:
+    if observation == "image":
+        from .cnn import GridCNN
+        return "CnnPolicy", {"features_extractor_class": GridCNN}
+    if isinstance(vec.observation_space, gym.spaces.Dict):
+        return "MultiInputPolicy", {}
+    return "MlpPolicy", {}
+
+
 def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_envs: int = 4,
           budgets: tuple[int, ...] | None = None, tensorboard: Path | None = None,
-          verbose: int = 0) -> list[Path]:
-    """Train ``algorithm`` on ``config``'s task; save a checkpoint at every budget; return them."""
+          verbose: int = 0, observation: str = "flat", bonus: float = 0.0,
+          subprocesses: bool = False) -> list[Path]:
+    """Train ``algorithm`` on ``config``'s task, seeing ``observation`` and rewarded with the
+    exploration ``bonus`` on top of the task's reward, on ``n_envs`` envs (in as many worker
+    processes with ``subprocesses``, else stepped in turn here); save a checkpoint at every
+    budget (:func:`agent_name` ``_BUDGET``) with its metadata, training throughput included;
+    return them."""
     cls = _algorithm(algorithm)  # first: it says which extra is missing
     from stable_baselines3.common.env_util import make_vec_env
 
     budgets = tuple(sorted(budgets or config.budgets))
-    vec = make_vec_env(lambda: make_env(config.env_id, config.env_kwargs), n_envs=n_envs,
-                       seed=seed)
-    network = "MultiInputPolicy" if isinstance(vec.observation_space, gym.spaces.Dict) \
-        else "MlpPolicy"
+    vec_cls = None
+    if subprocesses and n_envs > 1:
+        from stable_baselines3.common.vec_env import SubprocVecEnv
+        vec_cls = SubprocVecEnv
+    vec = make_vec_env(make_env, n_envs=n_envs, seed=seed, vec_env_cls=vec_cls,
+                       env_kwargs={"env_id": config.env_id, "env_kwargs": config.env_kwargs,
+                                   "observation": observation, "bonus": bonus})
+    network, policy_kwargs = _policy(vec, observation)
+    hyper = dict(config.hyperparameters.get(algorithm, {}))
+    policy_kwargs.update(hyper.pop("policy_kwargs", {}))
     model = cls(network, vec, seed=seed, verbose=verbose, device="cpu",
                 tensorboard_log=str(tensorboard) if tensorboard else None,
-                **config.hyperparameters.get(algorithm, {}))
+                policy_kwargs=policy_kwargs or None, **hyper)
     out_dir.mkdir(parents=True, exist_ok=True)
+    name = agent_name(config, algorithm, observation, bonus, seed)
     saved, started, done = [], time.perf_counter(), 0
     for budget in budgets:
         model.learn(total_timesteps=budget - done, reset_num_timesteps=done == 0,
-                    tb_log_name=f"{config.task}_{algorithm}")
+                    tb_log_name=name)
         done = budget
-        path = out_dir / f"{config.task}_{algorithm}_{budget}"
+        path = out_dir / f"{name}_{budget}"
         model.save(path)
         meta = {"algorithm": algorithm, "env_id": config.env_id, "env_kwargs": config.env_kwargs,
-                "task": config.task, "steps": int(model.num_timesteps), "seed": seed,
-                "n_envs": n_envs, "wall_seconds": time.perf_counter() - started,
+                "task": config.task, "observation": observation, "bonus": bonus,
+                "steps": int(model.num_timesteps), "seed": seed, "n_envs": n_envs,
+                "subprocesses": vec_cls is not None,
+                "wall_seconds": time.perf_counter() - started,
                 "vlb_gym_version": vlb_gym.__version__}
+        meta["steps_per_second"] = meta["steps"] / meta["wall_seconds"]
         path.with_suffix(".json").write_text(json.dumps(meta, indent=2) + "\n")
         saved.append(path.with_suffix(".zip"))
     vec.close()
@@ -97,6 +140,8 @@ class SB3Policy:
             raise ValueError(f"{zip_path}: no such saved agent")
         self.model = _algorithm(self.meta["algorithm"]).load(zip_path, device="cpu")
         self.env = env
+        self.imager = LabelImager(env.observation_space) \
+            if self.meta["observation"] == "image" else None
         self.masked = self.meta["algorithm"] == "maskable_ppo"
         space = env.action_space
         self.nvec = tuple(int(n) for n in space.nvec) if isinstance(
@@ -104,10 +149,17 @@ class SB3Policy:
         self.name = zip_path.stem
 
     def reset(self) -> None:
-        """Nothing to forget: the agents are feed-forward (no recurrent state)."""
+        """The agents are feed-forward (no recurrent state); an image agent's pictures start
+        again from the next observation (the episode's first)."""
+        if self.imager is not None:
+            self.imager.start = None
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
                 deterministic: bool = True) -> tuple[np.ndarray, None]:
+        if self.imager is not None:
+            if self.imager.start is None:
+                self.imager.reset(observation)
+            observation = self.imager(observation)
         kwargs = {"action_masks": admissible_actions(self.env.unwrapped)} if self.masked else {}
         action, _ = self.model.predict(observation, deterministic=deterministic, **kwargs)
         if self.nvec is not None:  # trained on flattened actions
@@ -140,6 +192,10 @@ def load_metadata(path: str | Path) -> dict[str, Any]:
     if meta["algorithm"] not in ALGORITHMS:
         raise ValueError(f"{meta_path}: unknown algorithm {meta['algorithm']!r}; "
                          f"expected one of {ALGORITHMS}")
+    meta.setdefault("observation", "flat")  # agents saved before images were offered
+    if meta["observation"] not in OBSERVATIONS:
+        raise ValueError(f"{meta_path}: unknown observation {meta['observation']!r}; "
+                         f"expected one of {OBSERVATIONS}")
     return meta
 
 

@@ -6,7 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
-from .common import UsageError, clamp_workers, count
+from .common import UsageError, clamp_workers, count, fraction
 
 
 def cmd_baseline_train(args: argparse.Namespace) -> int:
@@ -19,7 +19,9 @@ def cmd_baseline_train(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     saved = train(task, args.algo, Path(args.out), args.seed, args.n_envs,
                   tuple(args.budgets) if args.budgets else None,
-                  Path(args.tensorboard) if args.tensorboard else None, verbose=args.verbose)
+                  Path(args.tensorboard) if args.tensorboard else None, verbose=args.verbose,
+                  observation=args.observation, bonus=args.bonus,
+                  subprocesses=args.subprocesses)
     print(f"trained {args.algo} on {args.task} in {time.perf_counter() - started:.0f} s")
     for path in saved:
         print(f"  saved {path}  (verify: vlb verify {args.env_id} --policy {path} "
@@ -32,15 +34,23 @@ def cmd_bench_compare(args: argparse.Namespace) -> int:
 
     started = time.perf_counter()
     workers = clamp_workers(args.workers, args.episodes, "bench compare")
-    compare(Path(args.out), tuple(args.tasks), args.episodes, args.seed, tuple(args.algos),
-            tuple(args.budgets) if args.budgets else None, args.n_envs, workers)
+    compare(Path(args.out), tuple(args.tasks), args.episodes, args.seed, tuple(args.agents),
+            args.seeds, tuple(args.budgets) if args.budgets else None, args.n_envs, workers,
+            args.subprocesses, args.reuse)
     print(f"wrote {args.out}/compare.md and compare.png in {time.perf_counter() - started:.0f} s")
     print(Path(args.out, "compare.md").read_text())
     return 0
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
-    from vlb_gym.baselines.configs import ALGORITHMS, TASKS
+    from vlb_gym.baselines.configs import (ALGORITHMS, DEFAULT_AGENTS, OBSERVATIONS, TASKS,
+                                           AgentSpec)
+
+    def agent_spec(text: str) -> AgentSpec:
+        try:
+            return AgentSpec.parse(text)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
 
     t = sub.add_parser("baseline", help="train Stable-Baselines3 agents (extra rl)")
     tsub = t.add_subparsers(dest="baseline_command", required=True, metavar="COMMAND")
@@ -54,7 +64,15 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     tt.add_argument("--algo", required=True, choices=ALGORITHMS, help="the RL algorithm")
     tt.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS",
                     help="checkpoints in environment steps (default: the task's)")
+    tt.add_argument("--observation", choices=OBSERVATIONS, default="flat",
+                    help="flat: the env's observation (MultiInputPolicy); image: the label map "
+                    "as an image through a small CNN")
+    tt.add_argument("--bonus", type=fraction, default=0.0, metavar="B",
+                    help="exploration bonus per newly labelled cell, for training only (never "
+                    "in rho_B); default 0")
     tt.add_argument("--seed", type=count(0), default=0, help="training seed")
+    tt.add_argument("--subprocesses", action="store_true",
+                    help="step the --n-envs envs in worker processes (SubprocVecEnv)")
     tt.add_argument("--n-envs", type=count(1), default=4, metavar="N",
                     help="vectorized environments")
     tt.add_argument("--out", default="agents", metavar="DIR", help="where checkpoints go")
@@ -67,21 +85,33 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     csub = c.add_subparsers(dest="bench_command", required=True, metavar="COMMAND")
     cc = csub.add_parser("compare", help="graphs vs RL agents on the same footing",
                          description="For each task: the hand-written graph, the synthesized "
-                         "graph (scripted paper replies) and RL agents at each training budget, "
-                         "verified on the same N episodes and seeds; writes a Markdown table "
-                         "and a plot to --out.")
+                         "graph (scripted paper replies) and RL agents (each configuration, "
+                         "--seeds training seeds, every budget), verified on the same N "
+                         "episodes and seeds; writes tables (IQM across seeds with bootstrap "
+                         "intervals, episodes needed to certify), CSV, JSON, learning curves "
+                         "and the agents' manifest to --out.")
     cc.add_argument("--out", default="results", metavar="DIR",
                     help="where the table, the plot and the agents go")
     cc.add_argument("--tasks", nargs="+", default=sorted(TASKS), choices=sorted(TASKS),
                     metavar="TASK", help="tasks to compare")
-    cc.add_argument("--algos", nargs="+", default=list(ALGORITHMS), choices=ALGORITHMS,
-                    metavar="ALGO", help="RL algorithms to train")
+    cc.add_argument("--agents", nargs="+", type=agent_spec, default=list(DEFAULT_AGENTS),
+                    metavar="ALGO[:OBS[:BONUS]]",
+                    help=f"RL configurations: algorithm ({', '.join(ALGORITHMS)}), "
+                    "observation (flat or image) and exploration bonus (default: "
+                    f"{' '.join(a.label for a in DEFAULT_AGENTS)})")
+    cc.add_argument("--seeds", type=count(1), default=3, metavar="N",
+                    help="training seeds per configuration: --seed .. --seed + N - 1")
+    cc.add_argument("--reuse", action="store_true",
+                    help="verify the agents of OUT/agents/manifest.json again instead of "
+                    "training them (those missing are trained)")
+    cc.add_argument("--subprocesses", action="store_true",
+                    help="step the --n-envs training envs in worker processes")
     cc.add_argument("--episodes", type=count(1), default=100, metavar="N",
                     help="verification episodes per graph and agent")
     cc.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS",
                     help="training checkpoints in environment steps (default: each task's)")
     cc.add_argument("--seed", type=count(0), default=0,
-                    help="seed of training and of the verification campaigns")
+                    help="first training seed, and the seed of the verification campaigns")
     cc.add_argument("--n-envs", type=count(1), default=4, metavar="N",
                     help="vectorized environments in training")
     cc.add_argument("--workers", type=count(1), default=1, metavar="N",
