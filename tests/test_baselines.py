@@ -208,11 +208,34 @@ def test_comparison_benchmark_at_small_scale_and_its_reuse(tmp_path, capsys):
     assert (tmp_path / "compare.csv").read_text().count("\n") == 1 + len(rows)
     assert (tmp_path / "behaviors" / "goal_and_back.json").exists()
 
+    assert all("/" not in m["path"] for m in manifest)  # names beside the manifest
     assert main(args + ["--reuse"]) == 0  # the same agents, verified again, no training
     assert "trained" not in capsys.readouterr().out
     again = json.loads((tmp_path / "compare.json").read_text())
     assert [(r["successes"], r["train_steps"]) for r in again] == \
         [(r["successes"], r["train_steps"]) for r in rows]
+
+
+@pytest.mark.parametrize("manifest, message", [
+    ("{", "the agents' manifest is not JSON"),
+    ('{"a": 1}', "is not a JSON list"),
+    ("[1]", "entry 0 is not an object"),
+    ('[{"task": "find_goal"}]', "entry 0 needs 'agent'"),
+    ('[{"task": "find_goal", "agent": "ppo", "seed": true, "budget": 1, "path": "x.zip", '
+     '"steps": 1, "wall_seconds": 1}]', "entry 0 needs 'seed'"),
+    ('[{"task": "find_goal", "agent": "ppo", "seed": 0, "budget": 1, "path": "/etc/x.zip", '
+     '"steps": 1, "wall_seconds": 1}]', "is not the file name of an agent beside the manifest"),
+    ("[" * 1000 + "]" * 1000, "nested deeper"),
+])
+def test_a_bad_manifest_is_a_usage_error_before_any_training(manifest, message, tmp_path,
+                                                              capsys):
+    (tmp_path / "agents").mkdir()
+    (tmp_path / "agents" / "manifest.json").write_text(manifest)
+    assert main(["bench", "compare", "--out", str(tmp_path), "--reuse", "--tasks",
+                 "find_goal"]) == 2
+    captured = capsys.readouterr()
+    assert message in captured.err and "manifest.json" in captured.err
+    assert "graph" not in captured.out  # refused before anything ran
 
 
 @pytest.mark.parametrize("spec, message", [

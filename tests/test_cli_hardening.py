@@ -241,6 +241,8 @@ def write_agent(tmp_path: Path, metadata: str | bytes | None) -> Path:
     ('{"algorithm": "ppo", "env_id": "VLB-GridExplore-v0"}', "needs 'env_kwargs'"),
     ('{"algorithm": "ppo", "env_id": "x", "env_kwargs": []}', "needs 'env_kwargs'"),
     ('{"algorithm": "dqn", "env_id": "x", "env_kwargs": {}}', "unknown algorithm"),
+    ('{"algorithm": "ppo", "env_id": "x", "env_kwargs": {}, "observation": "pixels"}',
+     "unknown observation 'pixels'"),
     ('["ppo"]', "not a JSON object"),
     ('{"algorithm": ', "not JSON"),
     ("[" * 1000 + "]" * 1000, "nested deeper"),

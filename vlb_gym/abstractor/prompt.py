@@ -52,7 +52,8 @@ def _example(env_id: str, behaviors: list[dict[str, Any]], version: str
     (``prompts/<version>/examples/ENV_ID.json``: one document in v2, a list in order of
     preference from v3) whose behavior nodes are all in this library; else the env's first
     library behavior; else none."""
-    path = resources.files("vlb_gym.abstractor") / "prompts" / version / "examples" / f"{env_id}.json"
+    path = resources.files("vlb_gym.abstractor") / "prompts" / version / "examples" \
+        / f"{env_id}.json"
     if path.is_file():
         shipped = json.loads(path.read_text())
         available = {b["name"] for b in behaviors}

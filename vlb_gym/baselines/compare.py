@@ -28,7 +28,7 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
-from vlb_gym.core.files import write_atomic
+from vlb_gym.core.files import InputFileError, load_json, read_limited, write_atomic
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 from vlb_gym.verify.policies import PolicyRef
@@ -97,6 +97,40 @@ def synthesized_graphs(library: BehaviorLibrary) -> None:
             save(result, library)
 
 
+_ENTRY = {"task": str, "agent": str, "seed": int, "budget": int, "path": str, "steps": int,
+          "wall_seconds": (int, float)}
+
+
+def load_manifest(path: Path) -> list[dict]:
+    """The agents of a manifest written by :func:`compare` (none if there is no file), checked:
+    a list of objects with the keys and types of ``_ENTRY``, each ``path`` the file name of an
+    agent beside the manifest (a saved agent is a pickle: only what the comparison wrote there
+    is loaded), returned as a full path. :class:`InputFileError` naming the file and entry
+    otherwise."""
+    if not path.is_file():
+        return []
+    text = read_limited(path, what="the agents' manifest")
+    try:
+        manifest = load_json(text, str(path))
+    except json.JSONDecodeError as exc:
+        raise InputFileError(f"{path}: the agents' manifest is not JSON: {exc}") from None
+    if not isinstance(manifest, list):
+        raise InputFileError(f"{path}: the agents' manifest is not a JSON list")
+    folder = path.parent
+    for i, entry in enumerate(manifest):
+        if not isinstance(entry, dict):
+            raise InputFileError(f"{path}: entry {i} is not an object")
+        for key, kind in _ENTRY.items():
+            if not isinstance(entry.get(key), kind) or isinstance(entry.get(key), bool):
+                raise InputFileError(f"{path}: entry {i} needs {key!r} "
+                                     f"({'a string' if kind is str else 'a number'})")
+        name = entry["path"]
+        if Path(name).name != name or not name.endswith(".zip"):
+            raise InputFileError(f"{path}: entry {i}: {name!r} is not the file name of an agent "
+                                 f"beside the manifest")
+    return [{**entry, "path": str(folder / entry["path"])} for entry in manifest]
+
+
 def _trained(manifest: list[dict], task: str, spec: AgentSpec, seed: int,
              budgets: tuple[int, ...]) -> list[dict] | None:
     """The manifest's checkpoints of this run at exactly ``budgets``, if all their files exist."""
@@ -121,8 +155,7 @@ def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 10
     out.mkdir(parents=True, exist_ok=True)
     agents_dir = out / "agents"
     manifest_path = agents_dir / MANIFEST
-    manifest: list[dict] = json.loads(manifest_path.read_text()) if reuse and \
-        manifest_path.is_file() else []
+    manifest = load_manifest(manifest_path) if reuse else []
     rows: list[Row] = []
     # the synthesized behaviors (and their transcripts) are kept with the results; campaigns,
     # worker processes included, resolve behavior names in that library
@@ -151,7 +184,8 @@ def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 10
                                    for budget, path in zip(steps, paths)]
                     manifest = [m for m in manifest if (m["task"], m["agent"], m["seed"]) !=
                                 (name, spec.label, run_seed)] + checkpoints
-                    write_atomic(manifest_path, json.dumps(manifest, indent=2) + "\n")
+                    write_atomic(manifest_path, json.dumps(  # paths: names beside it
+                        [{**m, "path": Path(m["path"]).name} for m in manifest], indent=2) + "\n")
                 for meta in checkpoints:
                     report = _verify(task, PolicyRef("sb3", meta["path"]), episodes, seed,
                                      workers)
