@@ -3,13 +3,12 @@
 :class:`LabelImage` turns ``VLB-GridExplore-v0``'s observation (planar position and flat labels,
 plus ``start`` and ``legs`` under the ``find_goal_and_oscillate`` task) into a
 ``(channels, size, size)`` uint8 image, 0 or 255 (SB3's image convention: its CNN policies scale
-by 1/255): one channel per label (empty, obstacle, unexplored,
-goal), then the agent's cell, the start cell, a full plane once a goal has been found and,
-with ``legs``, a plane at 255 x legs / LEGS. Everything comes from the observation the wrapper
-is given
-(the start cell, under ``find_goal``, from the first observation of the episode, where the agent
-stands at reset); nothing is read from the env's hidden state. :class:`~.cnn.GridCNN` is a
-features extractor for it.
+by 1/255): one channel per label (empty, obstacle, unexplored, goal), then the agent's cell, the
+start cell, a full plane once a goal has been found and, with ``legs``, a plane at
+255 x legs / LEGS. Everything comes from the observation the wrapper is given (the start cell,
+under ``find_goal``, from the first observation of the episode, where the agent stands at
+reset); nothing is read from the env's hidden state. :class:`~.cnn.GridCNN` is a features
+extractor for it.
 """
 
 from __future__ import annotations
