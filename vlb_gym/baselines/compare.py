@@ -28,7 +28,7 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
-from vlb_gym.core.files import InputFileError, load_json, read_limited, write_atomic
+from vlb_gym.core.files import InputFileError, read_json_file, write_atomic
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 from vlb_gym.verify.policies import PolicyRef
@@ -109,13 +109,7 @@ def load_manifest(path: Path) -> list[dict]:
     otherwise."""
     if not path.is_file():
         return []
-    text = read_limited(path, what="the agents' manifest")
-    try:
-        manifest = load_json(text, str(path))
-    except json.JSONDecodeError as exc:
-        raise InputFileError(f"{path}: the agents' manifest is not JSON: {exc}") from None
-    if not isinstance(manifest, list):
-        raise InputFileError(f"{path}: the agents' manifest is not a JSON list")
+    manifest = read_json_file(path, "the agents' manifest", list)
     folder = path.parent
     for i, entry in enumerate(manifest):
         if not isinstance(entry, dict):

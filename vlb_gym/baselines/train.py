@@ -17,7 +17,7 @@ import gymnasium as gym
 import numpy as np
 
 import vlb_gym  # noqa: F401 - registers the envs
-from vlb_gym.core.files import load_json, read_limited
+from vlb_gym.core.files import read_json_file
 
 from .configs import ALGORITHMS, OBSERVATIONS, AgentSpec, TaskConfig
 from .observations import LabelImage, LabelImager
@@ -178,13 +178,7 @@ def load_metadata(path: str | Path) -> dict[str, Any]:
     """An agent's metadata, checked: ``algorithm`` one of ours, ``env_id`` a string and
     ``env_kwargs`` an object; ``ValueError`` naming the file otherwise."""
     meta_path = agent_files(path)[1]
-    text = read_limited(meta_path, what="the agent's metadata")
-    try:
-        meta = load_json(text, str(meta_path))
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{meta_path}: the agent's metadata is not JSON: {exc}") from None
-    if not isinstance(meta, dict):
-        raise ValueError(f"{meta_path}: the agent's metadata is not a JSON object")
+    meta = read_json_file(meta_path, "the agent's metadata")
     for key, kind in (("algorithm", str), ("env_id", str), ("env_kwargs", dict)):
         if not isinstance(meta.get(key), kind):
             raise ValueError(f"{meta_path}: the agent's metadata needs {key!r} "

@@ -83,6 +83,21 @@ def load_json(text: str | bytes, source: str, max_depth: int = MAX_JSON_DEPTH) -
     return data
 
 
+def read_json_file(path: str | os.PathLike[str], what: str, kind: type = dict) -> Any:
+    """The JSON document in ``path`` (:func:`read_limited`, :func:`load_json`), a ``kind``
+    (dict or list) at the top; :class:`InputFileError` naming the file and ``what`` it should
+    hold otherwise."""
+    text = read_limited(path, what=what)
+    try:
+        data = load_json(text, str(path))
+    except json.JSONDecodeError as exc:
+        raise InputFileError(f"{path}: {what} is not JSON: {exc}") from None
+    if not isinstance(data, kind):
+        raise InputFileError(f"{path}: {what} is not a JSON "
+                             f"{'object' if kind is dict else 'list'}")
+    return data
+
+
 def write_atomic(path: str | os.PathLike[str], content: str | bytes) -> None:
     """Write ``content`` (text or bytes) to ``path`` so that readers see the old file or the whole
     new one; on any failure the temporary file is removed and the old file stays as it was. The
