@@ -185,25 +185,30 @@ def test_comparison_benchmark_at_small_scale_and_its_reuse(tmp_path, capsys):
     args = ["bench", "compare", "--out", str(tmp_path), "--episodes", "6", "--budgets", "128",
             "--agents", "maskable_ppo:image:0.02", "--seeds", "2", "--n-envs", "1",
             "--tasks", "find_goal"]
-    assert main(args) == 0
+    assert main(args + ["--jobs", "2"]) == 0  # the two seeds train in two processes at once
     first = capsys.readouterr().out
     assert first.count("find_goal: trained maskable_ppo-image-bonus0.02 seed") == 2
     rows = json.loads((tmp_path / "compare.json").read_text())
-    manifest = json.loads((tmp_path / "agents" / "manifest.json").read_text())
+    manifest = sorted(json.loads((tmp_path / "agents" / "manifest.json").read_text()),
+                      key=lambda m: m["seed"])
     assert [(m["seed"], m["budget"]) for m in manifest] == [(0, 128), (1, 128)]
     assert all(m["steps_per_second"] > 0 and m["observation"] == "image" for m in manifest)
-    assert [(r["kind"], r["seed"], r["train_steps"]) for r in rows] == [
-        ("graph", None, None), ("synthesized graph", None, None),
-        ("rl", 0, manifest[0]["steps"]), ("rl", 1, manifest[1]["steps"])]
-    graphs = [r for r in rows if r["kind"] != "rl"]
+    agent = "maskable_ppo-image-bonus0.02"
+    assert [(r["kind"], r["contestant"], r["seed"], r["train_steps"]) for r in rows] == [
+        ("graph", "explore_until_goal", None, None),
+        ("synthesized graph", "explore_for_goal", None, None),
+        ("random", "uniform admissible", None, None),
+        *[("rl", f"{agent} {how}", m["seed"], m["steps"]) for m in manifest
+          for how in ("greedy", "sampled")]]
+    graphs = [r for r in rows if "graph" in r["kind"]]
     assert all(r["successes"] == 6 for r in graphs)  # same seeds, the graphs never fail
     assert all(r["episodes_to_certify"] == 59 for r in graphs)  # no failures: vlb plan's 59
     for r in rows:  # an agent's rate is its own failures over N
         rate = 1 - r["successes"] / 6
         assert (r["episodes_to_certify"] == float("inf")) == (rate >= 0.05)
     table = (tmp_path / "compare.md").read_text()
-    assert f"| find_goal | maskable_ppo-image-bonus0.02 | rl | {manifest[0]['steps']} | 2 |" \
-        in table
+    for how in ("greedy", "sampled"):
+        assert f"| find_goal | {agent} {how} | rl | {manifest[0]['steps']} | 2 |" in table
     assert (tmp_path / "compare.png").stat().st_size > 1000
     assert (tmp_path / "compare.csv").read_text().count("\n") == 1 + len(rows)
     assert (tmp_path / "behaviors" / "goal_and_back.json").exists()
@@ -241,8 +246,100 @@ def test_a_bad_manifest_is_a_usage_error_before_any_training(manifest, message, 
 @pytest.mark.parametrize("spec, message", [
     ("dqn", "ALGO one of"), ("ppo:pixels", "observation must be one of"),
     ("ppo:flat:x", "the bonus is not a number"), ("ppo:image:3", "between 0 and 1"),
-    ("ppo:image:0.1:9", "expected ALGO[:OBSERVATION[:BONUS]]")])
+    ("ppo:image:0.1:9", "expected ALGO[:OBSERVATION[:BONUS]]"),
+    ("a2c:spatial", "the spatial policy needs action masks: use maskable_ppo")])
 def test_bad_agent_specs_are_usage_errors(spec, message, capsys):
     with pytest.raises(SystemExit) as exit_:
         main(["bench", "compare", "--agents", spec])
     assert exit_.value.code == 2 and message in capsys.readouterr().err
+
+
+def test_a_sampled_agent_draws_from_its_distribution_seeded_per_episode(tmp_path):
+    """--sample: the draws follow the model's masked probabilities (chi-square against them),
+    are admissible, repeat for an episode's seed and differ between seeds."""
+    from scipy.stats import chisquare
+    import torch
+
+    from vlb_gym.baselines.train import SB3Policy
+
+    saved = train(TASKS["find_goal"], "maskable_ppo", tmp_path, budgets=(128,), n_envs=1,
+                  observation="spatial")[0]
+    env = gym.make(GRID, **TASKS["find_goal"].env_kwargs)
+    policy = SB3Policy(saved, env, sample=True)
+    obs, _ = env.reset(seed=4)
+    policy.reset(seed=11)
+    draws = np.array([np.ravel_multi_index(tuple(policy.predict(obs)[0]), (2, 10, 10))
+                      for _ in range(4000)])
+    imager = policy.imager
+    masks = ActionMasks(FlatActions(env)).action_masks()
+    with torch.no_grad():
+        probs = policy.model.policy.get_distribution(
+            policy.model.policy.obs_to_tensor(imager(obs))[0],
+            action_masks=masks).distribution.probs[0].double().numpy()
+    assert masks[draws].all()
+    support = np.flatnonzero(probs > 0)
+    counts = np.bincount(draws, minlength=probs.size)[support]
+    assert chisquare(counts, probs[support] / probs[support].sum() * counts.sum()).pvalue > 1e-4
+
+    def episode(seed):
+        obs, _ = env.reset(seed=4)
+        policy.reset(seed=seed)
+        return [tuple(policy.predict(obs)[0]) for _ in range(30)]
+
+    assert episode(5) == episode(5) and episode(5) != episode(6)
+
+
+def test_a_sampled_campaign_replays_from_its_store_and_its_hint(tmp_path, capsys):
+    saved = train(TASKS["find_goal"], "maskable_ppo", tmp_path, budgets=(128,), n_envs=1,
+                  observation="spatial")[0]
+    assert main(["verify", GRID, "--policy", str(saved), "--sample", "--episodes", "6",
+                 "--epsilon", "0.1", "--report", str(tmp_path / "r.json")]) == 0
+    out = capsys.readouterr().out
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["policy"]["kind"] == "sb3_sampled"
+    if report["failures"]:  # its hint replays it, drawing the same actions
+        hint = shlex.split(out.split("replay one: ")[1].splitlines()[0])
+        assert hint[3:5] == ["--sample", "--policy"]
+        assert main(hint[1:]) == 0
+        assert "rho_B = -1" in capsys.readouterr().out
+    store = tmp_path / "sampled.db"
+    assert main(["verify", GRID, "--policy", str(saved), "--sample", "--episodes", "6",
+                 "--epsilon", "0.1", "--store", str(store), "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["replay", str(store), "--episode", "3", "--policy", str(saved)]) == 0
+    assert "reproduces the stored record" in capsys.readouterr().out
+    assert main(["replay", str(store), "--episode", "3", "--policy", str(saved),
+                 "--sample"]) == 2
+    assert main(["verify", GRID, "--behavior", "explore_until_goal", "--sample", "--episodes",
+                 "3", "--epsilon", "0.1"]) == 2
+    assert "--sample draws a trained agent's actions: it needs --policy" in \
+        capsys.readouterr().err
+
+
+def test_the_random_floor_draws_uniformly_among_admissible_actions():
+    """Policy kind ``random``: each draw admissible, uniform over the admissible set
+    (chi-square), the same for an episode's seed, and a campaign runs it."""
+    from scipy.stats import chisquare
+
+    from vlb_gym.baselines.random_policy import RandomLoader
+    from vlb_gym.baselines.wrappers import admissible_actions
+
+    env = gym.make(GRID, task="find_goal")
+    policy = RandomLoader().load(PolicyRef("random", "admissible"), env)
+    env.reset(seed=2)
+    policy.reset(seed=9)
+    admissible = np.flatnonzero(admissible_actions(env.unwrapped))
+    draws = [int(np.ravel_multi_index(tuple(policy.predict(None)[0]), (2, 10, 10)))
+             for _ in range(3000)]
+    assert set(draws) <= set(admissible)
+    counts = np.bincount(draws, minlength=200)[admissible]
+    assert chisquare(counts).pvalue > 1e-4
+    policy.reset(seed=9)
+    again = [int(np.ravel_multi_index(tuple(policy.predict(None)[0]), (2, 10, 10)))
+             for _ in range(3000)]
+    assert again == draws
+    with pytest.raises(ValueError, match="unknown random policy 'uniform'"):
+        RandomLoader().load(PolicyRef("random", "uniform"), env)
+    report = run_campaign(CampaignConfig(GRID, PolicyRef("random", "admissible"), 20, seed=1,
+                                         env_kwargs=TASKS["find_goal"].env_kwargs))
+    assert report["episodes"] == 20 and report["mean_primitives"] > 19  # the graph needs 19

@@ -60,14 +60,15 @@ def test_policy_kinds_come_from_their_packages():
 
     assert isinstance(policy_loader("behavior"), BehaviorLoader)
     assert isinstance(policy_loader("sb3"), SB3Loader)
-    with pytest.raises(ValueError, match=r"unknown policy kind 'nope' \(known: behavior, sb3"):
+    with pytest.raises(ValueError, match=r"unknown policy kind 'nope' \(known: behavior, "
+                                         r"random, sb3, sb3_sampled"):
         policy_loader("nope")
 
 
 class SenseForever:
     """A policy of a kind of its own: sense where the robot stands, three times, then finish."""
 
-    def reset(self):
+    def reset(self, seed=None):
         self.left = 3
 
     def predict(self, observation, state=None, episode_start=None, deterministic=True):

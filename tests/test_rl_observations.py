@@ -12,7 +12,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vlb_gym import RobustnessWrapper
-from vlb_gym.baselines.observations import AGENT, FULL, GOAL_FOUND, START, LabelImage
+from vlb_gym.baselines.observations import (AGENT, FULL, GOAL_FOUND, HEADING_HOME, LEGS_DONE,
+                                            START, LabelImage)
 from vlb_gym.baselines.tasks import LEGS, ExplorationBonus
 from vlb_gym.baselines.wrappers import admissible_actions
 from vlb_gym.envs.grid_explore.types import GOAL, UNEXPLORED
@@ -35,7 +36,7 @@ def test_the_label_image_passes_both_env_checkers(task):
     check_env(env, skip_render_check=True)
     with pytest.warns(UserWarning, match="36x36"):  # the reason for GridCNN, and only that
         sb3_checker.check_env(env)
-    assert env.observation_space.shape == (7 + (task == "find_goal_and_oscillate"), 10, 10)
+    assert env.observation_space.shape == (7 + 2 * (task == "find_goal_and_oscillate"), 10, 10)
 
 
 @settings(max_examples=8, deadline=None)
@@ -54,7 +55,9 @@ def test_the_label_image_shows_the_true_state(seed, task):
         assert list(zip(*np.nonzero(image[START]))) == [state.start_cell]
         assert (image[GOAL_FOUND] == FULL * bool((state.labels == GOAL).any())).all()
         if task == "find_goal_and_oscillate":
-            assert (image[-1] == round(FULL * env.get_wrapper_attr("tracker").legs / LEGS)).all()
+            legs = env.get_wrapper_attr("tracker").legs
+            assert (image[LEGS_DONE] == round(FULL * legs / LEGS)).all()
+            assert (image[HEADING_HOME] == FULL * (legs % 2)).all()
         image, _, terminated, truncated, _ = env.step(random_admissible(env, rng))
         if terminated or truncated:
             break
@@ -108,3 +111,60 @@ def test_the_exploration_bonus_adds_up_as_documented_and_never_changes_rho(bonus
 def test_a_bad_bonus_is_refused(bonus):
     with pytest.raises(ValueError, match="bonus must be a number in"):
         ExplorationBonus(gym.make(ENV, task="find_goal"), bonus)
+
+
+def _spatial_policy(task: str = "find_goal", **env_options):
+    pytest.importorskip("sb3_contrib")
+    from vlb_gym.baselines.cnn import SpatialPolicy
+    from vlb_gym.baselines.train import make_env
+
+    env = make_env(ENV, {"task": task, **env_options}, "spatial")
+    policy = SpatialPolicy(env.observation_space, env.action_space, lambda _: 3e-4)
+    return env, policy
+
+
+@pytest.mark.parametrize("size", [10, 15])
+def test_the_spatial_head_reads_each_action_off_its_own_cell(size):
+    """The logit of (primitive, i, j) is the 1x1 convolution of the feature map at (i, j), in
+    FlatActions' C order; and it sees only its receptive field: changing the image at cell
+    (0, 0) leaves every logit more than 3 cells away (three 3x3 layers) unchanged. A dense head
+    over all actions would fail both."""
+    import torch
+
+    env, policy = _spatial_policy(size=size, n_obstacles=size * size * 3 // 10)
+    assert isinstance(policy.action_net, torch.nn.Identity)
+    image, _ = env.reset(seed=1)
+    obs = torch.as_tensor(image[None], dtype=torch.float32)
+    with torch.no_grad():
+        logits = policy.get_distribution(obs).distribution.logits[0]
+        features = policy.extract_features(obs).view(1, 32, size, size)
+        conv = policy.mlp_extractor.actor
+        expected = torch.einsum("pc,bcij->bpij", conv.weight[:, :, 0, 0], features)[0] \
+            + conv.bias[:, None, None]
+    assert logits.shape == (2 * size * size,)
+    torch.testing.assert_close(torch.log_softmax(expected.flatten(), 0), logits)
+    changed = obs.clone()
+    changed[0, :, 0, 0] = 255 - changed[0, :, 0, 0]
+    with torch.no_grad():
+        moved = policy.get_distribution(changed).distribution.logits[0]
+    shift = (moved - logits).view(2, size, size)  # log-softmax: a common offset
+    far = shift[:, 4:, :].flatten().tolist() + shift[:, :4, 4:].flatten().tolist()
+    assert max(far) - min(far) < 1e-5
+    assert (shift[:, :4, :4] - far[0]).abs().max() > 1e-6  # near cells do change
+
+
+def test_a_spatial_policy_never_puts_mass_on_an_inadmissible_action():
+    import torch
+
+    env, policy = _spatial_policy()
+    rng = np.random.default_rng(0)
+    image, _ = env.reset(seed=3)
+    for _ in range(10):
+        masks = env.action_masks()
+        with torch.no_grad():
+            probs = policy.get_distribution(torch.as_tensor(image[None], dtype=torch.float32),
+                                            action_masks=masks).distribution.probs[0].numpy()
+        assert probs[~masks].max() == 0 and probs[masks].sum() == pytest.approx(1, abs=1e-5)
+        image, _, done, cut, _ = env.step(int(rng.choice(np.flatnonzero(masks))))
+        if done or cut:
+            break

@@ -23,7 +23,7 @@ class Scripted:
     def __init__(self, actions, then=None):
         self.actions, self.then = actions, then
 
-    def reset(self):
+    def reset(self, seed=None):
         self.left = list(self.actions)
 
     def predict(self, obs, state=None, episode_start=None, deterministic=True):

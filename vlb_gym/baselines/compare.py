@@ -1,9 +1,13 @@
 """The comparison benchmark: graphs (hand-written and synthesized) and RL agents, verified on the
 same env, task, sampling distribution, reset seeds, rho_B and bounds.
 
-Contestants: the task's hand-written graph, its synthesized graph, and every RL configuration
+Contestants: the task's hand-written graph, its synthesized graph, a uniformly random admissible
+policy (the floor: with masks and the step bound, chance alone finishes some episodes), and
+every RL configuration
 (:class:`AgentSpec`: algorithm, observation, exploration bonus) trained with several seeds and
-checkpointed at every budget. Each is verified on the same N episodes; a row gives successes,
+checkpointed at every budget, each verified as it acts: ``greedy`` (the most likely action,
+policy kind ``sb3``) and ``sampled`` (drawn from its distribution, seeded per episode,
+``sb3_sampled``). Each is verified on the same N episodes; a row gives successes,
 the one-sided Clopper-Pearson lower bound, the confidence at eps, mean primitives and the
 **episodes needed to certify** P >= 1 - eps at 95% confidence given the row's failure rate
 (:func:`~.stats.episodes_to_certify`). Across seeds, the summary gives the IQM of the success
@@ -22,10 +26,13 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import platform
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass, fields
+from multiprocessing import get_context
 from pathlib import Path
 
 from vlb_gym.core.files import InputFileError, read_json_file, write_atomic
@@ -33,7 +40,8 @@ from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 from vlb_gym.verify.policies import PolicyRef
 
-from .configs import DEFAULT_AGENTS, SYNTHESES, TASKS, AgentSpec, TaskConfig
+from .configs import (ACTING, DEFAULT_AGENTS, DEFAULT_TASKS, SYNTHESES, TASKS, AgentSpec,
+                      TaskConfig)
 from .stats import aggregate, episodes_to_certify
 
 EPSILON = 0.05
@@ -46,7 +54,7 @@ MANIFEST = "manifest.json"
 class Row:
     task: str
     contestant: str
-    kind: str  # graph, synthesized graph, rl
+    kind: str  # graph, synthesized graph, random, rl
     seed: int | None
     episodes: int
     successes: int
@@ -64,9 +72,10 @@ class Row:
         return self.successes / self.episodes
 
 
-def _verify(task: TaskConfig, policy: PolicyRef, episodes: int, seed: int,
-            workers: int) -> dict:
-    kwargs = {} if policy.kind == "sb3" else task.env_kwargs  # an agent brings its own
+def verify_agent(task: TaskConfig, policy: PolicyRef, episodes: int, seed: int,
+                 workers: int = 1) -> dict:
+    """The campaign report of ``policy`` on ``task``: ``episodes`` from campaign ``seed``."""
+    kwargs = {} if policy.kind in ACTING.values() else task.env_kwargs  # an agent brings its own
     return run_campaign(CampaignConfig(task.env_id, policy, episodes, EPSILON, DELTA, seed,
                                        kwargs), workers)
 
@@ -75,7 +84,7 @@ def _row(task: TaskConfig, name: str, kind: str, report: dict, meta: dict | None
          ) -> Row:
     meta = meta or {}
     rate = report["failures"] / report["episodes"]
-    return Row(task.task, name, kind, meta.get("seed"), report["episodes"], report["successes"],
+    return Row(task.label, name, kind, meta.get("seed"), report["episodes"], report["successes"],
                report["lower_bound"], report["confidence"],
                episodes_to_certify(rate, EPSILON, CERTIFY_CONFIDENCE), report["mean_primitives"],
                meta.get("steps"), meta.get("wall_seconds"), meta.get("steps_per_second"),
@@ -136,20 +145,79 @@ def _trained(manifest: list[dict], task: str, spec: AgentSpec, seed: int,
     return [found[b] for b in budgets]
 
 
-def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 100,
+Run = tuple[str, AgentSpec, int]  # (task, configuration, training seed)
+
+
+def _train_run(run: Run, agents_dir: Path, n_envs: int, budgets: tuple[int, ...] | None,
+               subprocesses: bool) -> tuple[list[dict], float]:
+    """Train one run; its checkpoints as manifest entries, and the wall time."""
+    from .train import train
+
+    name, spec, run_seed = run
+    started = time.perf_counter()
+    paths = train(TASKS[name], spec.algorithm, agents_dir, seed=run_seed, n_envs=n_envs,
+                  budgets=_budgets(name, budgets), observation=spec.observation,
+                  bonus=spec.bonus, subprocesses=subprocesses)
+    checkpoints = [{"task": name, "agent": spec.label, "seed": run_seed, "budget": budget,
+                    "path": str(path), **asdict(spec),
+                    **json.loads(path.with_suffix(".json").read_text())}
+                   for budget, path in zip(_budgets(name, budgets), paths)]
+    return checkpoints, time.perf_counter() - started
+
+
+def _share_threads(threads: int) -> None:
+    import torch
+
+    torch.set_num_threads(threads)
+
+
+def _train_runs(runs: list[Run], jobs: int, *args) -> Iterator[tuple[Run, list[dict], float]]:
+    """Each run's checkpoints and wall time as it ends: trained here one after another, or with
+    ``jobs`` > 1 in as many worker processes (spawned), the CPUs' torch threads shared out."""
+    if jobs <= 1 or len(runs) <= 1:
+        for run in runs:
+            yield run, *_train_run(run, *args)
+        return
+    threads = max(1, (os.cpu_count() or 1) // jobs)
+    with ProcessPoolExecutor(jobs, mp_context=get_context("spawn"), initializer=_share_threads,
+                             initargs=(threads,)) as pool:
+        futures = {pool.submit(_train_run, run, *args): run for run in runs}
+        for future in as_completed(futures):
+            yield futures[future], *future.result()
+
+
+def _budgets(task: str, budgets: tuple[int, ...] | None) -> tuple[int, ...]:
+    return tuple(sorted(budgets or TASKS[task].budgets))
+
+
+def compare(out: Path, tasks: tuple[str, ...] = DEFAULT_TASKS, episodes: int = 100,
             seed: int = 0, agents: tuple[AgentSpec, ...] = DEFAULT_AGENTS, seeds: int = 3,
             budgets: tuple[int, ...] | None = None, n_envs: int = 4, workers: int = 1,
             subprocesses: bool = False, reuse: bool = False,
+            acting: tuple[str, ...] = tuple(ACTING), jobs: int = 1,
             log: Callable[[str], None] = print) -> list[Row]:
-    """Verify the graphs and train (or, with ``reuse``, reload) and verify every agent of
-    ``agents`` with training seeds ``seed .. seed + seeds - 1``; write the results to
+    """Train (or, with ``reuse``, reload) every agent of ``agents`` with training seeds
+    ``seed .. seed + seeds - 1``, ``jobs`` runs at a time; then verify the graphs and every
+    agent, acting in each way of ``acting`` (keys of :data:`ACTING`); write the results to
     ``out``. Verification campaigns all use campaign seed ``seed``."""
-    from .train import train
-
     out.mkdir(parents=True, exist_ok=True)
     agents_dir = out / "agents"
     manifest_path = agents_dir / MANIFEST
     manifest = load_manifest(manifest_path) if reuse else []
+    runs = [(name, spec, run_seed) for name in tasks for spec in agents
+            for run_seed in range(seed, seed + seeds)]
+    trained = {run: _trained(manifest, *run, _budgets(run[0], budgets)) if reuse else None
+               for run in runs}
+    todo = [run for run in runs if trained[run] is None]
+    for run, checkpoints, seconds in _train_runs(todo, jobs, agents_dir, n_envs, budgets,
+                                                 subprocesses):
+        name, spec, run_seed = run
+        log(f"{name}: trained {spec.label} seed {run_seed} in {seconds:.0f} s")
+        trained[run] = checkpoints
+        manifest = [m for m in manifest if (m["task"], m["agent"], m["seed"]) !=
+                    (name, spec.label, run_seed)] + checkpoints
+        write_atomic(manifest_path, json.dumps(  # paths: names beside it
+            [{**m, "path": Path(m["path"]).name} for m in manifest], indent=2) + "\n")
     rows: list[Row] = []
     # the synthesized behaviors (and their transcripts) are kept with the results; campaigns,
     # worker processes included, resolve behavior names in that library
@@ -157,35 +225,23 @@ def compare(out: Path, tasks: tuple[str, ...] = tuple(TASKS), episodes: int = 10
     synthesized_graphs(library)
     for name in tasks:
         task = TASKS[name]
-        steps = tuple(sorted(budgets or task.budgets))
-        for behavior, kind in ((task.graph, "graph"), (task.synthesized, "synthesized graph")):
-            ref = PolicyRef("behavior", behavior, str(library.directory))
-            rows.append(_row(task, behavior, kind, _verify(task, ref, episodes, seed, workers)))
-            log(f"{name}: {kind} {behavior}: {rows[-1].successes}/{episodes}")
-        for spec in agents:
-            for run_seed in range(seed, seed + seeds):
-                checkpoints = _trained(manifest, name, spec, run_seed, steps) if reuse else None
-                if checkpoints is None:
-                    started = time.perf_counter()
-                    paths = train(task, spec.algorithm, agents_dir, seed=run_seed,
-                                  n_envs=n_envs, budgets=steps, observation=spec.observation,
-                                  bonus=spec.bonus, subprocesses=subprocesses)
-                    log(f"{name}: trained {spec.label} seed {run_seed} in "
-                        f"{time.perf_counter() - started:.0f} s")
-                    checkpoints = [{"task": name, "agent": spec.label, "seed": run_seed,
-                                    "budget": budget, "path": str(path), **asdict(spec),
-                                    **json.loads(path.with_suffix(".json").read_text())}
-                                   for budget, path in zip(steps, paths)]
-                    manifest = [m for m in manifest if (m["task"], m["agent"], m["seed"]) !=
-                                (name, spec.label, run_seed)] + checkpoints
-                    write_atomic(manifest_path, json.dumps(  # paths: names beside it
-                        [{**m, "path": Path(m["path"]).name} for m in manifest], indent=2) + "\n")
-                for meta in checkpoints:
-                    report = _verify(task, PolicyRef("sb3", meta["path"]), episodes, seed,
-                                     workers)
-                    rows.append(_row(task, spec.label, "rl", report, meta))
-                    log(f"{name}: {spec.label} seed {run_seed} @ {meta['steps']} steps: "
-                        f"{report['successes']}/{episodes}")
+        for ref, kind in ((PolicyRef("behavior", task.graph, str(library.directory)), "graph"),
+                          (PolicyRef("behavior", task.synthesized, str(library.directory)),
+                           "synthesized graph"),
+                          (PolicyRef("random", "admissible"), "random")):
+            contestant = "uniform admissible" if kind == "random" else ref.ref
+            rows.append(_row(task, contestant, kind, verify_agent(task, ref, episodes, seed,
+                                                                  workers)))
+            log(f"{name}: {kind} {contestant}: {rows[-1].successes}/{episodes}")
+        for run in [run for run in runs if run[0] == name]:
+            _, spec, run_seed = run
+            for meta in trained[run]:
+                for how in acting:
+                    report = verify_agent(task, PolicyRef(ACTING[how], meta["path"]), episodes,
+                                          seed, workers)
+                    rows.append(_row(task, f"{spec.label} {how}", "rl", report, meta))
+                    log(f"{name}: {spec.label} {how}, seed {run_seed} @ {meta['steps']} "
+                        f"steps: {report['successes']}/{episodes}")
     write_atomic(out / "compare.json", json.dumps([asdict(r) for r in rows], indent=2) + "\n")
     write_csv(rows, out / "compare.csv")
     write_atomic(out / "compare.md", markdown(rows, episodes, seed))
@@ -284,9 +340,9 @@ def plot(rows: list[Row], path: Path) -> None:
                 line, = ax.plot(steps, [iqm(v) for v in values], marker="o", label=contestant)
                 ax.fill_between(steps, [min(v) for v in values], [max(v) for v in values],
                                 color=line.get_color(), alpha=0.2)
-            for r, style in zip([r for r in mine if r.kind != "rl"], ("--", ":")):
-                ax.axhline(value(r), linestyle=style, color="k",
-                           label=f"{r.contestant} ({r.kind})")
+            for r, style in zip([r for r in mine if r.kind != "rl"], ("--", ":", "-.")):
+                ax.axhline(value(r), linestyle=style, label=f"{r.contestant} ({r.kind})",
+                           color="grey" if r.kind == "random" else "k")
             ax.set(title=task, xlabel="training environment steps", ylabel=label,
                    ylim=(-0.02, 1.02))
             ax.legend(fontsize=7)

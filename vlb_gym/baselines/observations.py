@@ -5,10 +5,11 @@ plus ``start`` and ``legs`` under the ``find_goal_and_oscillate`` task) into a
 ``(channels, size, size)`` uint8 image, 0 or 255 (SB3's image convention: its CNN policies scale
 by 1/255): one channel per label (empty, obstacle, unexplored, goal), then the agent's cell, the
 start cell, a full plane once a goal has been found and, with ``legs``, a plane at
-255 x legs / LEGS. Everything comes from the observation the wrapper is given (the start cell,
-under ``find_goal``, from the first observation of the episode, where the agent stands at
-reset); nothing is read from the env's hidden state. :class:`~.cnn.GridCNN` is a features
-extractor for it.
+255 x legs / LEGS and a full plane while heading home (an odd number of legs done: the policy is
+memoryless, and the direction of travel is not legible from the progress plane's intensity).
+Everything comes from the observation the wrapper is given (the start cell, under
+``find_goal``, from the first observation of the episode, where the agent stands at reset);
+nothing is read from the env's hidden state. :mod:`~.cnn` has the networks that read it.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from .tasks import LEGS
 
 LABEL_CHANNELS = len(Label)
 AGENT, START, GOAL_FOUND = LABEL_CHANNELS, LABEL_CHANNELS + 1, LABEL_CHANNELS + 2
+LEGS_DONE, HEADING_HOME = GOAL_FOUND + 1, GOAL_FOUND + 2
 FULL = 255
 
 
@@ -40,7 +42,7 @@ class LabelImager:
                             f"and labels), not {space}")
         self.size = int(round(np.sqrt(len(space["labels"].nvec))))
         self.legs = "legs" in space.spaces
-        self.space = spaces.Box(0, 255, (GOAL_FOUND + 1 + self.legs, self.size, self.size),
+        self.space = spaces.Box(0, 255, (GOAL_FOUND + 1 + 2 * self.legs, self.size, self.size),
                                 np.uint8)
         self.start: tuple[int, int] | None = None
 
@@ -57,7 +59,9 @@ class LabelImager:
         image[(START, *(tuple(obs["start"]) if "start" in obs else self.start))] = FULL
         image[GOAL_FOUND] = FULL * bool((labels == GOAL).any())
         if self.legs:
-            image[GOAL_FOUND + 1] = round(FULL * int(obs["legs"]) / LEGS)
+            legs = int(obs["legs"])
+            image[LEGS_DONE] = round(FULL * legs / LEGS)
+            image[HEADING_HOME] = FULL * (legs % 2)
         return image
 
 

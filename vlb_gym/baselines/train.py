@@ -19,7 +19,7 @@ import numpy as np
 import vlb_gym  # noqa: F401 - registers the envs
 from vlb_gym.core.files import read_json_file
 
-from .configs import ALGORITHMS, OBSERVATIONS, AgentSpec, TaskConfig
+from .configs import ALGORITHMS, AgentSpec, TaskConfig, check_observation
 from .observations import LabelImage, LabelImager
 from .tasks import ExplorationBonus
 from .wrappers import ActionMasks, FlatActions, admissible_actions
@@ -49,12 +49,11 @@ def make_env(env_id: str, env_kwargs: dict[str, Any], observation: str = "flat",
     """The training env: the exploration bonus (``bonus`` > 0, training only), the
     ``observation``, then flattened actions and their masks where the space is
     MultiDiscrete."""
-    if observation not in OBSERVATIONS:
-        raise ValueError(f"observation must be one of {OBSERVATIONS}, not {observation!r}")
+    check_observation("maskable_ppo", observation)
     env = gym.make(env_id, **env_kwargs)
     if bonus:
         env = ExplorationBonus(env, bonus)
-    if observation == "image":
+    if observation in IMAGES:
         env = LabelImage(env)
     if isinstance(env.action_space, gym.spaces.MultiDiscrete):
         return ActionMasks(FlatActions(env))
@@ -66,10 +65,16 @@ def agent_name(config: TaskConfig, algorithm: str, observation: str = "flat",
     """``TASK_`` + the configuration's :attr:`~.configs.AgentSpec.label` (``p`` for a decimal
     point: a dot would start a file suffix) + ``-sSEED`` for a seed other than 0."""
     label = AgentSpec(algorithm, observation, bonus).label.replace(".", "p")
-    return f"{config.task}_{label}" + (f"-s{seed}" if seed else "")
+    return f"{config.label}_{label}" + (f"-s{seed}" if seed else "")
 
 
-def _policy(vec, observation: str) -> tuple[str, dict[str, Any]]:
+IMAGES = ("image", "spatial")  # the observations seen through LabelImage
+
+
+def _policy(vec, observation: str) -> tuple[Any, dict[str, Any]]:
+    if observation == "spatial":
+        from .cnn import SpatialPolicy
+        return SpatialPolicy, {}
     if observation == "image":
         from .cnn import GridCNN
         return "CnnPolicy", {"features_extractor_class": GridCNN}
@@ -88,6 +93,7 @@ def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_en
     budget (:func:`agent_name` ``_BUDGET``) with its metadata, training throughput included;
     return them."""
     cls = _algorithm(algorithm)  # first: it says which extra is missing
+    check_observation(algorithm, observation)
     from stable_baselines3.common.env_util import make_vec_env
 
     budgets = tuple(sorted(budgets or config.budgets))
@@ -114,7 +120,7 @@ def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_en
         path = out_dir / f"{name}_{budget}"
         model.save(path)
         meta = {"algorithm": algorithm, "env_id": config.env_id, "env_kwargs": config.env_kwargs,
-                "task": config.task, "observation": observation, "bonus": bonus,
+                "task": config.label, "observation": observation, "bonus": bonus,
                 "steps": int(model.num_timesteps), "seed": seed, "n_envs": n_envs,
                 "subprocesses": vec_cls is not None,
                 "wall_seconds": time.perf_counter() - started,
@@ -126,33 +132,46 @@ def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_en
     return saved
 
 
+SAMPLING_STREAM = 0x5A4D  # spawn key of a sampled agent's draws, apart from the env's
+
+
 class SB3Policy:
     """A trained agent behind the :class:`~vlb_gym.verify.episode.Policy` interface.
 
     It never "finishes" by itself: episodes end when the task terminates them (finished) or at
-    the step bound (not finished), exactly as rho_B is defined for any policy.
+    the step bound (not finished), exactly as rho_B is defined for any policy. It takes the most
+    likely admissible action, or with ``sample`` draws one from its distribution (the
+    stochastic policy PPO trains), with a generator seeded from the episode's seed at each
+    :meth:`reset`: episodes stay independent, and each replays exactly.
     """
 
-    def __init__(self, path: str | Path, env: gym.Env):
+    def __init__(self, path: str | Path, env: gym.Env, sample: bool = False):
         zip_path, _ = agent_files(path)
         self.meta = load_metadata(path)
         if not zip_path.is_file():
             raise ValueError(f"{zip_path}: no such saved agent")
         self.model = _algorithm(self.meta["algorithm"]).load(zip_path, device="cpu")
+        if sample and not isinstance(self.model.action_space, gym.spaces.Discrete):
+            raise ValueError(f"{zip_path}: sampling needs a discrete action space, not "
+                             f"{self.model.action_space}")
         self.env = env
         self.imager = LabelImager(env.observation_space) \
-            if self.meta["observation"] == "image" else None
+            if self.meta["observation"] in IMAGES else None
         self.masked = self.meta["algorithm"] == "maskable_ppo"
+        self.sample = sample
+        self.rng = np.random.default_rng(0)
         space = env.action_space
         self.nvec = tuple(int(n) for n in space.nvec) if isinstance(
             space, gym.spaces.MultiDiscrete) else None
         self.name = zip_path.stem
 
-    def reset(self) -> None:
+    def reset(self, seed: int | None = None) -> None:
         """The agents are feed-forward (no recurrent state); an image agent's pictures start
-        again from the next observation (the episode's first)."""
+        again from the next observation (the episode's first); a sampling agent's draws from
+        ``seed``."""
         if self.imager is not None:
             self.imager.start = None
+        self.rng = np.random.default_rng([SAMPLING_STREAM, 0 if seed is None else seed])
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
                 deterministic: bool = True) -> tuple[np.ndarray, None]:
@@ -160,11 +179,28 @@ class SB3Policy:
             if self.imager.start is None:
                 self.imager.reset(observation)
             observation = self.imager(observation)
-        kwargs = {"action_masks": admissible_actions(self.env.unwrapped)} if self.masked else {}
-        action, _ = self.model.predict(observation, deterministic=deterministic, **kwargs)
+        masks = admissible_actions(self.env.unwrapped) if self.masked else None
+        if self.sample:
+            action = self._draw(observation, masks)
+        else:
+            kwargs = {"action_masks": masks} if self.masked else {}
+            action, _ = self.model.predict(observation, deterministic=True, **kwargs)
         if self.nvec is not None:  # trained on flattened actions
             action = np.array(np.unravel_index(int(action), self.nvec), dtype=np.int64)
         return action, None
+
+    def _draw(self, observation: Any, masks: np.ndarray | None) -> Any:
+        """An action drawn from the agent's (masked) distribution with this episode's
+        generator."""
+        import torch
+
+        policy = self.model.policy
+        tensor, _ = policy.obs_to_tensor(observation)
+        with torch.no_grad():
+            kwargs = {"action_masks": masks} if self.masked else {}
+            probs = policy.get_distribution(tensor, **kwargs).distribution.probs
+        probs = probs[0].double().numpy()
+        return self.rng.choice(probs.size, p=probs / probs.sum())
 
 
 def agent_files(path: str | Path) -> tuple[Path, Path]:
@@ -187,9 +223,7 @@ def load_metadata(path: str | Path) -> dict[str, Any]:
         raise ValueError(f"{meta_path}: unknown algorithm {meta['algorithm']!r}; "
                          f"expected one of {ALGORITHMS}")
     meta.setdefault("observation", "flat")  # agents saved before images were offered
-    if meta["observation"] not in OBSERVATIONS:
-        raise ValueError(f"{meta_path}: unknown observation {meta['observation']!r}; "
-                         f"expected one of {OBSERVATIONS}")
+    check_observation(meta["algorithm"], meta["observation"], f"{meta_path}: ")
     return meta
 
 
@@ -200,11 +234,14 @@ def policy_env_kwargs(path: str | Path) -> tuple[str, dict[str, Any]]:
 
 
 class SB3Loader:
-    """Trained agents as the policies of campaigns (policy kind ``sb3``): ``NAME.zip`` with its
-    metadata ``NAME.json`` beside it."""
+    """Trained agents as the policies of campaigns: ``NAME.zip`` with its metadata ``NAME.json``
+    beside it; policy kind ``sb3`` takes the most likely action, ``sb3_sampled``
+    (:class:`SampledSB3Loader`) draws it (see :class:`SB3Policy`)."""
+
+    sample = False
 
     def load(self, ref, env: gym.Env) -> SB3Policy:
-        return SB3Policy(ref.ref, env)
+        return SB3Policy(ref.ref, env, self.sample)
 
     def files(self, ref, policy: SB3Policy) -> list[Path]:
         return list(agent_files(ref.ref))
@@ -214,7 +251,14 @@ class SB3Loader:
         digest = hashlib.sha256()
         for path in agent_files(ref.ref):
             digest.update(path.read_bytes())
-        return {"sha256": digest.hexdigest(), "algorithm": policy.meta["algorithm"]}
+        return {"sha256": digest.hexdigest(), "algorithm": policy.meta["algorithm"],
+                "sample": self.sample}
 
     def trained_env(self, ref) -> tuple[str, dict[str, Any]]:
         return policy_env_kwargs(ref.ref)
+
+
+class SampledSB3Loader(SB3Loader):
+    """Policy kind ``sb3_sampled``: trained agents that draw their actions."""
+
+    sample = True

@@ -10,12 +10,16 @@ from .common import UsageError, clamp_workers, count, fraction
 
 
 def cmd_baseline_train(args: argparse.Namespace) -> int:
-    from vlb_gym.baselines.configs import TASKS
+    from vlb_gym.baselines.configs import TASKS, check_observation
     from vlb_gym.baselines.train import train
 
     task = TASKS[args.task]
     if task.env_id != args.env_id:
         raise UsageError(f"task {args.task} belongs to {task.env_id}, not {args.env_id}")
+    try:
+        check_observation(args.algo, args.observation, "--observation: ")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     started = time.perf_counter()
     saved = train(task, args.algo, Path(args.out), args.seed, args.n_envs,
                   tuple(args.budgets) if args.budgets else None,
@@ -36,15 +40,17 @@ def cmd_bench_compare(args: argparse.Namespace) -> int:
     workers = clamp_workers(args.workers, args.episodes, "bench compare")
     compare(Path(args.out), tuple(args.tasks), args.episodes, args.seed, tuple(args.agents),
             args.seeds, tuple(args.budgets) if args.budgets else None, args.n_envs, workers,
-            args.subprocesses, args.reuse)
+            args.subprocesses, args.reuse, tuple(dict.fromkeys(args.acting)),
+            clamp_workers(args.jobs, len(args.tasks) * len(args.agents) * args.seeds,
+                          "bench compare", "--jobs", "training run(s)"))
     print(f"wrote {args.out}/compare.md and compare.png in {time.perf_counter() - started:.0f} s")
     print(Path(args.out, "compare.md").read_text())
     return 0
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
-    from vlb_gym.baselines.configs import (ALGORITHMS, DEFAULT_AGENTS, OBSERVATIONS, TASKS,
-                                           AgentSpec)
+    from vlb_gym.baselines.configs import (ACTING, ALGORITHMS, DEFAULT_AGENTS, DEFAULT_TASKS,
+                                           OBSERVATIONS, TASKS, AgentSpec)
 
     def agent_spec(text: str) -> AgentSpec:
         try:
@@ -66,7 +72,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                     help="checkpoints in environment steps (default: the task's)")
     tt.add_argument("--observation", choices=OBSERVATIONS, default="flat",
                     help="flat: the env's observation (MultiInputPolicy); image: the label map "
-                    "as an image through a small CNN")
+                    "as an image through a small CNN; spatial: the image through a fully "
+                    "convolutional policy with a spatial action head (maskable_ppo only)")
     tt.add_argument("--bonus", type=fraction, default=0.0, metavar="B",
                     help="exploration bonus per newly labelled cell, for training only (never "
                     "in rho_B); default 0")
@@ -92,12 +99,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                          "and the agents' manifest to --out.")
     cc.add_argument("--out", default="results", metavar="DIR",
                     help="where the table, the plot and the agents go")
-    cc.add_argument("--tasks", nargs="+", default=sorted(TASKS), choices=sorted(TASKS),
-                    metavar="TASK", help="tasks to compare")
+    cc.add_argument("--tasks", nargs="+", default=list(DEFAULT_TASKS), choices=sorted(TASKS),
+                    metavar="TASK", help=f"tasks to compare: {', '.join(sorted(TASKS))} "
+                    f"(default: {' '.join(DEFAULT_TASKS)})")
     cc.add_argument("--agents", nargs="+", type=agent_spec, default=list(DEFAULT_AGENTS),
                     metavar="ALGO[:OBS[:BONUS]]",
                     help=f"RL configurations: algorithm ({', '.join(ALGORITHMS)}), "
-                    "observation (flat or image) and exploration bonus (default: "
+                    "observation (flat, image or spatial) and exploration bonus (default: "
                     f"{' '.join(a.label for a in DEFAULT_AGENTS)})")
     cc.add_argument("--seeds", type=count(1), default=3, metavar="N",
                     help="training seeds per configuration: --seed .. --seed + N - 1")
@@ -106,6 +114,12 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                     "training them (those missing are trained)")
     cc.add_argument("--subprocesses", action="store_true",
                     help="step the --n-envs training envs in worker processes")
+    cc.add_argument("--jobs", type=count(1), default=1, metavar="N",
+                    help="training runs at once, each in a worker process, the CPUs' torch "
+                    "threads shared out (at most one per CPU; default 1)")
+    cc.add_argument("--acting", nargs="+", choices=ACTING, default=list(ACTING),
+                    help="how agents act when verified: greedy (the most likely action), "
+                    "sampled (drawn from the policy, seeded per episode); default both")
     cc.add_argument("--episodes", type=count(1), default=100, metavar="N",
                     help="verification episodes per graph and agent")
     cc.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS",

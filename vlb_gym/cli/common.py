@@ -171,13 +171,15 @@ def available_cpus() -> int:
     return os.cpu_count() or 1
 
 
-def clamp_workers(requested: int, episodes: int, command: str) -> int:
-    """At most one worker process per available CPU and per episode; a note when reduced."""
+def clamp_workers(requested: int, episodes: int, command: str, option: str = "--workers",
+                  items: str = "episode(s)") -> int:
+    """At most one worker process per available CPU and per episode (or other ``items``); a
+    note naming ``option`` when reduced."""
     cpus = available_cpus()
     workers = min(requested, cpus, episodes)
     if workers < requested:
-        reason = f"{cpus} CPU(s) available" if workers == cpus else f"{episodes} episode(s)"
-        print(f"vlb {command}: note: --workers {requested} reduced to {workers} ({reason})",
+        reason = f"{cpus} CPU(s) available" if workers == cpus else f"{episodes} {items}"
+        print(f"vlb {command}: note: {option} {requested} reduced to {workers} ({reason})",
               file=sys.stderr)
     return workers
 

@@ -18,6 +18,9 @@ from .common import (UsageError, add_env_kwarg, add_env_module, check_output, cl
                      count, env_kwargs, env_modules, probability)
 
 
+AGENT_KINDS = {False: "sb3", True: "sb3_sampled"}  # by --sample: the policy kinds of agents
+
+
 def _policy_ref(args: argparse.Namespace):
     """The policy named by --policy or --behavior; files by absolute path, so that a store's plan
     means the same from any directory."""
@@ -25,7 +28,9 @@ def _policy_ref(args: argparse.Namespace):
     from vlb_gym.verify.policies import PolicyRef
 
     if args.policy:
-        return PolicyRef("sb3", str(Path(args.policy).resolve()))
+        return PolicyRef(AGENT_KINDS[args.sample], str(Path(args.policy).resolve()))
+    if args.sample:
+        raise UsageError("--sample draws a trained agent's actions: it needs --policy")
     ref = args.behavior
     return PolicyRef("behavior", str(Path(ref).resolve()) if is_path(ref) else ref)
 
@@ -249,7 +254,7 @@ def stored_code(plan: dict[str, Any], args: argparse.Namespace) -> list[str]:
     given = set(env_modules(args.env_module))
     missing = [f"--env-module {m}" for m in plan["env_modules"] if m not in given]
     policy = plan["policy"]
-    if policy["kind"] == "sb3" and (not args.policy
+    if policy["kind"] in AGENT_KINDS.values() and (not args.policy
                                     or str(Path(args.policy).resolve()) != policy["ref"]):
         missing.append(f"--policy {policy['ref']}")
     return missing
@@ -270,9 +275,10 @@ def _replay_config(args: argparse.Namespace):
                                 stop_on_failure=not args.keep_going)
         seed = args.seed if args.index is None else episode_seed(args.seed, args.index)
         return config, seed, None
-    if args.behavior or args.seed is not None or args.index is not None or args.env_kwarg:
+    if args.behavior or args.seed is not None or args.index is not None or args.env_kwarg \
+            or args.sample:
         raise UsageError("replay STORE --episode K takes the campaign from the store: no "
-                         "--behavior, --seed, --index or --env-kwarg")
+                         "--behavior, --seed, --index, --env-kwarg or --sample")
     store = _read_store(args.target)
     try:
         plan = store.plan()
@@ -414,6 +420,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                         "with AGENT.json beside it); its training env kwargs apply, --env-kwarg "
                         "may add to them. Loading it runs code from the file (pickle): load only "
                         "agents you trust")
+    v.add_argument("--sample", action="store_true",
+                   help="with --policy: draw the agent's actions from its distribution (the "
+                   "stochastic policy it was trained as), seeded by each episode's seed, instead "
+                   "of taking the most likely one")
     v.add_argument("--episodes", type=count(1), metavar="N",
                    help="number of episodes, fixed in advance (see 'vlb plan'); required "
                    "unless --sequential")
@@ -501,6 +511,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     chosen.add_argument("--policy", metavar="AGENT.zip",
                         help="a trained agent (a Stable-Baselines3 zip with AGENT.json beside "
                         "it); loading it runs code from the file: load only agents you trust")
+    r.add_argument("--sample", action="store_true",
+                   help="with --policy: the agent draws its actions (as 'vlb verify --sample')")
     r.add_argument("--seed", type=count(0),
                    help="the episode's reset seed, or the campaign seed with --index")
     r.add_argument("--index", type=count(0), help="episode index within campaign --seed")

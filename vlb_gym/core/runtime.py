@@ -60,8 +60,9 @@ class BehaviorPolicy:
     def name(self) -> str:
         return self.behavior.name
 
-    def reset(self) -> None:
-        """Forget the position in the graph and the variables; the next predict starts anew."""
+    def reset(self, seed: int | None = None) -> None:
+        """Forget the position in the graph and the variables; the next predict starts anew
+        (a graph draws no random numbers: ``seed`` is unused)."""
         self._stack: list[_Frame] = []
         self._started = False
         self.finished = False

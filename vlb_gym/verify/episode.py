@@ -19,10 +19,12 @@ class Policy(Protocol):
 
     ``predict`` returns ``(action, state)``; an action of None means the policy has finished. A
     behavior graph's state is the node that chose the action (a string, recorded with the step);
-    an agent's is its recurrent state or None.
+    an agent's is its recurrent state or None. ``reset`` gets the episode's reset seed: a policy
+    that draws its actions seeds its own generator from it, so that episodes stay independent
+    and each replays exactly.
     """
 
-    def reset(self) -> None: ...
+    def reset(self, seed: int | None = None) -> None: ...
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
                 deterministic: bool = True) -> tuple[np.ndarray | None, Any]: ...
@@ -126,7 +128,7 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     try:
         obs, reset_info = env.reset(seed=seed)
         start = _plain(reset_info)
-        policy.reset()
+        policy.reset(seed=seed)
         if on_step is not None:
             on_step(None)
         while env.summary is None:

@@ -39,7 +39,8 @@ def failures_by_cause(results: Sequence[EpisodeResult], examples: int = 3) -> li
             for cause, failed in sorted(groups.items(), key=lambda item: -len(item[1]))]
 
 
-_REPLAY_OPTIONS = {"behavior": "--behavior", "sb3": "--policy"}  # what 'vlb replay' takes
+_REPLAY_OPTIONS = {"behavior": ["--behavior"], "sb3": ["--policy"],  # what 'vlb replay' takes
+                   "sb3_sampled": ["--sample", "--policy"]}
 
 
 class Report(Mapping[str, Any]):
@@ -172,7 +173,7 @@ class Report(Mapping[str, Any]):
         option = _REPLAY_OPTIONS.get(policy["kind"])
         if option is None:
             return None
-        words = ["vlb", "replay", self["env_id"], option, shown_path(policy["ref"]), "--seed",
+        words = ["vlb", "replay", self["env_id"], *option, shown_path(policy["ref"]), "--seed",
                  str(seed)]
         for key, value in self["env_kwargs"].items():
             words += ["--env-kwarg", f"{key}={json.dumps(value)}"]
