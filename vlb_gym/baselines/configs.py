@@ -49,12 +49,14 @@ class AgentSpec:
             + (f"-bonus{self.bonus:g}" if self.bonus else "")
 
 
-def check_observation(algorithm: str, observation: str, where: str = "") -> None:
-    """``ValueError`` (prefixed by ``where``) unless ``algorithm`` can see ``observation``."""
+def check_observation(algorithm: str | None, observation: str, where: str = "") -> None:
+    """``ValueError`` (prefixed by ``where``) unless ``observation`` is one of ours and
+    ``algorithm`` (if given) can see it."""
     if observation not in OBSERVATIONS:
         raise ValueError(f"{where}observation must be one of {', '.join(OBSERVATIONS)}, not "
                          f"{observation!r}")
-    if observation == "spatial" and algorithm not in SPATIAL_ALGORITHMS:
+    if observation == "spatial" and algorithm is not None \
+            and algorithm not in SPATIAL_ALGORITHMS:
         raise ValueError(f"{where}the spatial policy needs action masks: use "
                          f"{' or '.join(SPATIAL_ALGORITHMS)}, not {algorithm}")
 

@@ -49,7 +49,7 @@ def make_env(env_id: str, env_kwargs: dict[str, Any], observation: str = "flat",
     """The training env: the exploration bonus (``bonus`` > 0, training only), the
     ``observation``, then flattened actions and their masks where the space is
     MultiDiscrete."""
-    check_observation("maskable_ppo", observation)
+    check_observation(None, observation)
     env = gym.make(env_id, **env_kwargs)
     if bonus:
         env = ExplorationBonus(env, bonus)
