@@ -114,7 +114,7 @@ TASKS = {
                             "explore_for_goal", (15_000, 30_000, 60_000), _GRID_HYPER),
     "find_goal_and_oscillate": TaskConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 200,
                                           "find_goal_and_oscillate", "goal_and_back",
-                                          (20_000, 40_000, 80_000), _GRID_HYPER),
+                                          (25_000, 50_000, 100_000), _GRID_HYPER),
     # the scale test: 2.25x the cells, the obstacles in proportion (30%), the step bound x1.5
     "find_goal_15x15": TaskConfig("VLB-GridExplore-v0", "find_goal", 300, "explore_until_goal",
                                   "explore_for_goal", (20_000, 40_000, 80_000), _GRID_HYPER,
