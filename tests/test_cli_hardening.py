@@ -208,6 +208,8 @@ def test_grid_too_crowded_to_sample_is_a_value_error():
     ({"delivered_threshold_g": float("nan")}, ValueError, "delivered_threshold_g"),
     ({"width": 4096}, ValueError, "width must be >= 1 and <= 640"),
     ({"height": 2.5}, TypeError, "height must be an integer"),
+    ({"sleep_tolerance": 0.5}, ValueError, "sleep_tolerance must be >= 0.0 and <= 0.1"),
+    ({"sleep_tolerance": "fast"}, TypeError, "sleep_tolerance"),
 ])
 def test_scoop_constructor_checks_its_arguments(kwargs, error, message):
     pytest.importorskip("mujoco")

@@ -12,7 +12,7 @@ import mujoco
 import numpy as np
 
 from . import piles
-from .scene import Scene
+from .scene import Scene, yaw_quat
 from .types import PILE_STYLES, Environment
 
 DONOR_SETPOINT = np.array([0.5, -0.2, 0.0])
@@ -36,22 +36,18 @@ def sample_environment(rng: np.random.Generator, grain_counts: tuple[int, ...],
         pile_variant=int(rng.integers(piles.VARIANTS)))
 
 
-def _yaw_quat(yaw: float) -> np.ndarray:
-    return np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
-
-
 def place(scene: Scene, data: mujoco.MjData, env: Environment, arm_q: np.ndarray) -> None:
-    """Put the containers, the settled pile (moved rigidly with the donor) and the arm at rest."""
+    """Put the containers (into ``scene``'s model: see :meth:`Scene.own_copy`), the settled pile
+    (moved rigidly with the donor) and the arm at rest; every grain starts awake."""
+    scene.place_container(scene.donor_body, *env.donor)
+    scene.place_container(scene.receiver_body, *env.receiver)
     mujoco.mj_resetData(scene.model, data)
-    for mocap, pose in ((scene.donor_mocap, env.donor), (scene.receiver_mocap, env.receiver)):
-        data.mocap_pos[mocap] = [pose[0], pose[1], 0.0]
-        data.mocap_quat[mocap] = _yaw_quat(pose[2])
     pile = piles.pile(env.pile_style, env.n_grains, env.pile_variant)
     c, s = np.cos(env.donor[2]), np.sin(env.donor[2])
     rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     data.qpos[scene.grain_qpos[:, :3]] = pile[:, :3] @ rot.T + [env.donor[0], env.donor[1], 0.0]
     turned = np.empty(4)
-    yaw = _yaw_quat(env.donor[2])
+    yaw = yaw_quat(env.donor[2])
     for k, quat in enumerate(pile[:, 3:]):
         mujoco.mju_mulQuat(turned, yaw, quat)
         data.qpos[scene.grain_qpos[k, 3:]] = turned

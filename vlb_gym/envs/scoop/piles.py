@@ -36,10 +36,13 @@ def _initial(style: str, n: int, rng: np.random.Generator) -> np.ndarray:
 
 def settle(style: str, n: int, seed: int) -> np.ndarray:
     """A settled pile: (n, 7) positions and quaternions relative to the donor frame."""
-    scene = build_scene(n)
-    model, data = scene.model, mujoco.MjData(scene.model)
-    data.mocap_pos[scene.donor_mocap] = 0.0
-    data.mocap_pos[scene.receiver_mocap] = [0.0, 0.6, 0.0]
+    scene = build_scene(n).own_copy()
+    model = scene.model
+    # no sleeping: grains asleep in the tilted donor would not feel the gravity turn back
+    model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    scene.place_container(scene.donor_body, 0.0, 0.0, 0.0)
+    scene.place_container(scene.receiver_body, 0.0, 0.6, 0.0)
+    data = mujoco.MjData(model)
     data.qpos[scene.arm_qpos] = [0.0, -2.6, 2.4, -1.5, -1.57, 0.0]  # arm folded out of the way
     data.ctrl[:6] = data.qpos[scene.arm_qpos]
     rng = np.random.default_rng(seed)

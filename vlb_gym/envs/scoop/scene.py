@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import copy
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from importlib import resources
 
@@ -32,13 +33,30 @@ class Scene:
     arm_dof: np.ndarray  # dof addresses of the six arm joints
     grain_qpos: np.ndarray  # (n_grains, 7) qpos addresses of the grains' free joints
     grain_dof: np.ndarray  # (n_grains, 6) dof addresses
-    donor_mocap: int
-    receiver_mocap: int
+    donor_body: int  # the containers: static bodies, placed by writing their poses
+    receiver_body: int
+
+    def own_copy(self) -> Scene:
+        """This scene with a model of its own, to place containers in (:func:`place_container`)
+        without touching the shared compiled model."""
+        return replace(self, model=copy.copy(self.model))
+
+    def place_container(self, body: int, x: float, y: float, yaw: float) -> None:
+        """Move a container (``donor_body`` or ``receiver_body``) to ``(x, y)`` on the table with
+        ``yaw``; takes effect at the next ``mj_resetData`` or ``mj_forward``."""
+        self.model.body_pos[body] = [x, y, 0.0]
+        self.model.body_quat[body] = yaw_quat(yaw)
+
+
+def yaw_quat(yaw: float) -> np.ndarray:
+    """The quaternion of a turn by ``yaw`` about the vertical."""
+    return np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
 
 
 @lru_cache(maxsize=4)
 def build_scene(n_grains: int) -> Scene:
-    """Compile the asset with ``n_grains`` free spheres (placed later, from a settled snapshot)."""
+    """Compile the asset with ``n_grains`` free spheres (placed later, from a settled snapshot).
+    Shared and cached: whoever places containers works on :meth:`Scene.own_copy`."""
     xml = (resources.files("vlb_gym.assets") / ASSET).read_text()
     spec = mujoco.MjSpec.from_string(xml)
     for k in range(n_grains):
@@ -55,4 +73,4 @@ def build_scene(n_grains: int) -> Scene:
     grain_dof = np.array([model.joint(model.body(f"grain{k}").jntadr[0]).dofadr[0]
                           for k in range(n_grains)]).reshape(-1, 1) + np.arange(6)
     return Scene(model, n_grains, arm_qpos, arm_dof, grain_qpos, grain_dof,
-                 int(model.body("donor").mocapid[0]), int(model.body("receiver").mocapid[0]))
+                 model.body("donor").id, model.body("receiver").id)
