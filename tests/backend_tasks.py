@@ -20,6 +20,18 @@ def squares():
     return _square
 
 
+def _threads(i: int) -> tuple[int, dict[str, str | None]]:
+    import torch  # loaded after the worker started, as a trained agent's policy loads it
+
+    return i, {"OMP_NUM_THREADS": os.environ.get("OMP_NUM_THREADS"),
+               "torch": str(torch.get_num_threads())}
+
+
+def thread_pools():
+    """runner(i) = (i, the worker's OpenMP setting and torch's intra-op threads)."""
+    return _threads
+
+
 class SetupError(Exception):
     pass
 

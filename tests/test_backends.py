@@ -62,6 +62,16 @@ def test_process_each_index_once(workers):
         (i, i * i) for i in some)
 
 
+@pytest.mark.skipif("OMP_NUM_THREADS" in os.environ, reason="the user's own setting is kept")
+def test_process_workers_compute_on_one_thread_each():
+    """Regression: torch sized its pool to the machine in every worker, and a 2-worker campaign
+    of an SB3 agent ran 80x slower than 1 worker."""
+    pytest.importorskip("torch")
+    results = dict(run_indices(tasks.thread_pools, range(4), backend="process", workers=2))
+    assert all(r == {"OMP_NUM_THREADS": "1", "torch": "1"} for r in results.values()), results
+    assert "OMP_NUM_THREADS" not in os.environ  # the parent's own pools are left alone
+
+
 def test_process_setup_failure_is_raised_as_itself():
     started = time.monotonic()
     with pytest.raises(tasks.SetupError, match="no runner today") as info:
