@@ -5,13 +5,12 @@ physics within the plain physics' band."""
 from __future__ import annotations
 
 import gymnasium as gym
-import mujoco
 import numpy as np
 import pytest
 
 import vlb_gym  # noqa: F401 - registers the envs
 from vlb_gym import RobustnessWrapper, load_behavior
-from vlb_gym.envs.scoop import ScoopEnv
+from vlb_gym.envs.scoop import ScoopEnv  # first: it picks MuJoCo's headless GL before mujoco loads
 from vlb_gym.envs.scoop.controller import DepthCamera, grains_in_box, grains_in_scoop
 from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
 from vlb_gym.envs.scoop.kinematics import Kinematics, matrix_rpy, rpy_matrix
@@ -19,6 +18,8 @@ from vlb_gym.envs.scoop.perception import locate_containers
 from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
                                       RECEIVER_WALL, build_scene)
 from vlb_gym.verify import run_episode
+
+import mujoco  # noqa: E402, I001 - after vlb_gym.envs.scoop (see above)
 
 POSE = np.array(DEFAULT_SENSING_POSE, dtype=np.float32)
 DH_A = [0, -0.425, -0.3922, 0, 0, 0]
