@@ -11,8 +11,8 @@
   observations (``rl_throughput.py``);
 - cli: seconds from start to exit of ``vlb --help`` and of ``vlb plan`` in a fresh interpreter.
 
-Figures are medians of ``--repeats`` runs (the scoop campaign: one run unless ``--repeats``
-asks for more, as its note says).
+Figures are medians of ``--repeats`` runs; the scoop campaign (about 45 s a run) runs
+``--scoop-repeats`` times, once by default.
 """
 
 from __future__ import annotations

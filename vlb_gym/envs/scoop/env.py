@@ -134,11 +134,7 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
         """This env's scene of ``n_grains`` (its own model: containers are placed in it, with
         this env's sleep tolerance) and its data, made at the first use."""
         if n_grains not in self._simulations:
-            scene = build_scene(n_grains).own_copy()
-            options = scene.model.opt
-            options.sleep_tolerance = self.sleep_tolerance
-            if not self.sleep_tolerance:
-                options.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+            scene = build_scene(n_grains).own_copy(self.sleep_tolerance)
             self._simulations[n_grains] = scene, mujoco.MjData(scene.model)
         return self._simulations[n_grains]
 

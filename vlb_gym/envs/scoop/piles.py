@@ -36,10 +36,9 @@ def _initial(style: str, n: int, rng: np.random.Generator) -> np.ndarray:
 
 def settle(style: str, n: int, seed: int) -> np.ndarray:
     """A settled pile: (n, 7) positions and quaternions relative to the donor frame."""
-    scene = build_scene(n).own_copy()
-    model = scene.model
     # no sleeping: grains asleep in the tilted donor would not feel the gravity turn back
-    model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    scene = build_scene(n).own_copy(sleep_tolerance=0.0)
+    model = scene.model
     scene.place_container(scene.donor_body, 0.0, 0.0, 0.0)
     scene.place_container(scene.receiver_body, 0.0, 0.6, 0.0)
     data = mujoco.MjData(model)

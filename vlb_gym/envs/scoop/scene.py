@@ -36,10 +36,15 @@ class Scene:
     donor_body: int  # the containers: static bodies, placed by writing their poses
     receiver_body: int
 
-    def own_copy(self) -> Scene:
-        """This scene with a model of its own, to place containers in (:func:`place_container`)
-        without touching the shared compiled model."""
-        return replace(self, model=copy.copy(self.model))
+    def own_copy(self, sleep_tolerance: float) -> Scene:
+        """This scene with a model of its own, to place containers in (:meth:`place_container`)
+        without touching the shared compiled model; grains sleep under ``sleep_tolerance``
+        (0: never, every grain simulated at every step)."""
+        model = copy.copy(self.model)
+        model.opt.sleep_tolerance = sleep_tolerance
+        if not sleep_tolerance:
+            model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+        return replace(self, model=model)
 
     def place_container(self, body: int, x: float, y: float, yaw: float) -> None:
         """Move a container (``donor_body`` or ``receiver_body``) to ``(x, y)`` on the table with
