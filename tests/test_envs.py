@@ -9,6 +9,7 @@ environment its file names.
 
 from __future__ import annotations
 
+import importlib
 import inspect
 import pickle
 from typing import Any
@@ -153,6 +154,12 @@ class TestEveryEnv:
         else:  # [primitive index, *parameter]
             nvec = [len(env.primitive_order), *np.asarray(first.nvec).ravel()]
             assert env.action_space == gym.spaces.MultiDiscrete(nvec)
+
+    def test_preloaded_modules_import(self, env_id):
+        """What a campaign imports before forking its workers exists (a forkserver would skip a
+        missing one silently)."""
+        for module in gym.make(env_id).unwrapped.preload:
+            importlib.import_module(module)
 
     def test_action_encoding_round_trips(self, env_id):
         env = gym.make(env_id).unwrapped

@@ -8,6 +8,7 @@ import pytest
 
 from vlb_gym.core.expressions import (
     BUILTINS,
+    Budget,
     MAX_SEQUENCE,
     Expression,
     ExpressionError,
@@ -143,6 +144,25 @@ def test_function_expression_can_call_another_function():
     ns["inc"] = Expression("n + 1", {"n": -1}, WHERE, args=("n",)).evaluate(ns)
     twice = Expression("inc(inc(n))", {"n": -1, "inc": 1}, WHERE, args=("n",)).evaluate(ns)
     assert twice(5) == 7
+
+
+def test_once_computes_a_function_once_per_evaluation_and_again_after():
+    budget, calls = Budget(), []
+
+    def fn():
+        calls.append(1)
+        if len(calls) == 3:
+            raise ValueError("third")
+        return len(calls)
+
+    once = budget.once(fn)
+    assert (once(), once()) == (1, 1) and len(calls) == 1
+    budget.reset()  # the next top-level evaluation
+    assert once() == 2
+    budget.reset()
+    with pytest.raises(ValueError, match="third"):
+        once()
+    assert once() == 4  # a raise is not remembered
 
 
 def test_argmax_argmin_empty_sequence_raise():

@@ -82,11 +82,14 @@ def test_integers_cannot_grow_without_bound():
         evaluate("int(x)", x=1e300)
 
 
-def doubling_functions(count: int) -> dict:
-    """The shipped explore functions plus f0 ... f(count-1), each calling the previous twice."""
-    functions = {**explore_doc()["functions"], "f0": {"args": [], "expr": "1"}}
+def doubling_functions(count: int, args: tuple[str, ...] = ("x",)) -> dict:
+    """The shipped explore functions plus f0 ... f(count-1), each calling the previous twice
+    (with ``args``; a function without arguments is computed once per evaluation)."""
+    call = ", ".join(args)
+    functions = {**explore_doc()["functions"], "f0": {"args": list(args), "expr": "1"}}
     for k in range(1, count):
-        functions[f"f{k}"] = {"args": [], "expr": f"f{k - 1}() + f{k - 1}()"}
+        functions[f"f{k}"] = {"args": list(args),
+                              "expr": f"f{k - 1}({call}) + f{k - 1}({call})"}
     return functions
 
 
@@ -105,12 +108,23 @@ def test_functions_nested_too_deep_are_refused_at_load(grid_env, write_behavior)
 def test_exponentially_many_calls_fail_the_episode_quickly(grid_env, write_behavior):
     """2**16 calls from 16 doubling functions: the call budget ends the episode, not the process."""
     doc = explore_doc(functions=doubling_functions(MAX_CALL_DEPTH))
-    doc["edges"][0]["guard"] = f"f{MAX_CALL_DEPTH - 1}() > 0"
+    doc["edges"][0]["guard"] = f"f{MAX_CALL_DEPTH - 1}(1) > 0"
     policy = load_behavior(str(write_behavior(doc)), grid_env)
     started = time.perf_counter()
     result = run_episode(grid_env, policy, seed=0)
     assert time.perf_counter() - started < QUICK
     assert result.rho == -1 and f"more than {MAX_CALLS} function calls" in result.reason
+
+
+def test_functions_without_arguments_are_computed_once_per_evaluation(grid_env, write_behavior):
+    """The same doubling chain without arguments: each f_k runs once, so the guard is 2**15
+    after 16 calls, well inside the call budget."""
+    doc = explore_doc(functions=doubling_functions(MAX_CALL_DEPTH, args=()))
+    doc["edges"][0]["guard"] = f"f{MAX_CALL_DEPTH - 1}() == {2 ** (MAX_CALL_DEPTH - 1)}"
+    doc["edges"][0]["guard"] += " and not goal_found()"
+    policy = load_behavior(str(write_behavior(doc)), grid_env)
+    result = run_episode(grid_env, policy, seed=0)
+    assert result.rho == 1 and result.primitives > 2
 
 
 def test_a_string_doubled_in_every_step_fails_the_episode(grid_env, write_behavior):

@@ -45,6 +45,9 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
 
     env_id: str = ""
     metadata: dict[str, Any] = {"render_modes": [], "render_fps": 4}
+    #: Modules a campaign imports once, before it starts its worker processes (which inherit
+    #: them), rather than in every worker: slow imports the env makes on first use.
+    preload: tuple[str, ...] = ()
 
     def __init__(self, primitives: Sequence[MotionPrimitive[State]], observation_space: gym.Space,
                  render_mode: str | None = None):

@@ -103,7 +103,7 @@ class Budget:
     Its methods are what checked code calls (under private ``__`` names) and the bounded builtins.
     """
 
-    __slots__ = ("work", "calls")
+    __slots__ = ("work", "calls", "memo")
 
     def __init__(self) -> None:
         self.reset()
@@ -111,6 +111,19 @@ class Budget:
     def reset(self) -> None:
         self.work = MAX_WORK
         self.calls = MAX_CALLS
+        self.memo: dict[Callable[[], Any], Any] = {}
+
+    def once(self, fn: Callable[[], Any]) -> Callable[[], Any]:
+        """A behavior function of no arguments, computed at most once per top-level evaluation
+        and then recalled: expressions have no side effects, so nothing in one evaluation can
+        change its value. (A recalled value is not charged again: its work is not done again.)"""
+        def recalled() -> Any:
+            memo = self.memo
+            if fn in memo:
+                return memo[fn]
+            value = memo[fn] = fn()
+            return value
+        return recalled
 
     def charge(self, units: int) -> None:
         self.work -= units
@@ -455,9 +468,10 @@ class _Guard(ast.NodeTransformer):
 
 
 class Expression:
-    """A checked, compiled expression; call :meth:`evaluate` with a namespace."""
+    """A checked, compiled expression; call :meth:`evaluate` with a namespace. ``args`` are the
+    parameters of a function expression (None: a plain expression)."""
 
-    __slots__ = ("source", "where", "code", "names")
+    __slots__ = ("source", "where", "code", "names", "args")
 
     def __init__(self, source: str, names: Mapping[str, int | None], where: str = "expression",
                  args: tuple[str, ...] | None = None):
@@ -489,6 +503,7 @@ class Expression:
         tree = ast.fix_missing_locations(tree)
         self.source = source
         self.where = where
+        self.args = args
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", SyntaxWarning)

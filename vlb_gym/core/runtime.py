@@ -8,7 +8,8 @@ Run-time semantics: after a node's primitive (or sub-behavior) completes, its ou
 tried in file order and the first whose guard holds is taken; its ``set`` assignments run in order,
 then its ``param`` is evaluated for the next primitive. If no guard holds, a terminal node finishes
 its behavior (returning control to the parent's node), and a non-terminal node is an error. Every
-evaluation runs under the policy's :class:`~vlb_gym.core.expressions.Budget`.
+evaluation runs under the policy's :class:`~vlb_gym.core.expressions.Budget`; within one, a
+behavior function of no arguments is computed once (:meth:`~vlb_gym.core.expressions.Budget.once`).
 """
 
 from __future__ import annotations
@@ -35,7 +36,8 @@ class _Frame:
         self.ns = guard_namespace(static, budget)
         self.node = behavior.start_node
         for name, fn in behavior.functions:
-            self.ns[name] = fn.evaluate(self.ns)
+            value = fn.evaluate(self.ns)
+            self.ns[name] = budget.once(value) if not fn.args else value
 
 
 class BehaviorPolicy:

@@ -149,7 +149,8 @@ class Campaign:
             return backends.run_indices(setup, indices, backend="serial")
         return backends.run_indices(functools.partial(episode_runner, self.config), indices,
                                     backend=backend, workers=workers, ray_address=ray_address,
-                                    preload=["vlb_gym.verify.campaign"])
+                                    preload=["vlb_gym.verify.campaign",
+                                             *self.env.unwrapped.preload])
 
     def run(self, workers: int = 1, on_episode: Callable[[EpisodeResult], None] | None = None,
             store: CampaignStore | None = None, backend: str = "process",

@@ -88,6 +88,7 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
     env_id = "VLB-GridExplore-v0"
+    preload = ("vlb_gym.envs.grid_explore.compiled",)  # Numba and the compiled navigate
 
     def __init__(self, render_mode: str | None = None, size: int = 10, n_obstacles: int = 30,
                  n_goals: int = 3, action_noise: float = 0.0):

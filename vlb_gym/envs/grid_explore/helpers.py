@@ -58,7 +58,7 @@ class GridHelpers(Helpers):
     @helper
     def explored(self) -> list[Cell]:
         """E1: all cells whose label is not 'unexplored', in flat-index order."""
-        return [self._cells[k] for k, lab in enumerate(self._labels) if lab != UNEXPLORED]
+        return [cell for cell, lab in zip(self._cells, self._labels) if lab != UNEXPLORED]
 
     @helper
     def adjacent(self, cell: Cell | None = None) -> list[Cell]:

@@ -11,6 +11,9 @@ Tracking. The agent is a single integrator ``p_{k+1} = p_k + dt (u_k + sigma w_k
 moves along the planned cell centres at ``SPEED`` and then holds at the target for ``SETTLE``
 steps; the PD law ``u_k = KP e_k + KD (e_k - e_{k-1}) / dt`` with ``e = r - p`` tracks it. The
 closed loop is linear, so the whole trajectory is one IIR filter (:func:`scipy.signal.lfilter`).
+
+Navigate calls :func:`waypoints`, :func:`steps` and :func:`rollout` (and :func:`cost_to_go`);
+:mod:`.compiled` has the same four functions compiled with Numba, giving the same numbers.
 """
 
 from __future__ import annotations
@@ -79,6 +82,31 @@ def greedy_path(dist: np.ndarray, start: tuple[int, int]) -> list[tuple[int, int
         k = min(neighbours[k], key=flat.__getitem__)
         path.append(k)
     return [divmod(k, size) for k in path]
+
+
+def waypoints(dist: np.ndarray, start: tuple[int, int]) -> np.ndarray:
+    """Centres of the cells after ``start`` on the greedy path (the target's alone when
+    ``start`` is the target), shape (n, 2)."""
+    path = greedy_path(dist, start)
+    centres = np.array(path[1:] or path, dtype=float)
+    centres -= dist.shape[0] / 2 - 0.5
+    return centres
+
+
+def steps(start: np.ndarray, waypoints: np.ndarray) -> int:
+    """Number of steps of the reference from ``start`` through ``waypoints``."""
+    points = np.concatenate([start[None], waypoints])
+    step = np.diff(points, axis=0)
+    length = np.cumsum(np.hypot(step[:, 0], step[:, 1]))[-1]
+    return int(np.ceil(length / (SPEED * DT))) + SETTLE
+
+
+def rollout(start: np.ndarray, waypoints: np.ndarray, noise: np.ndarray | None,
+            blocked: np.ndarray) -> tuple[np.ndarray, int]:
+    """The closed-loop trajectory from rest at ``start`` through ``waypoints`` (``noise`` of
+    shape ``(steps(start, waypoints), 2)`` or None), and its first collision (-1: none)."""
+    trajectory = track(start, reference(start, waypoints), noise)
+    return trajectory, first_collision(trajectory, blocked)
 
 
 def reference(start: np.ndarray, waypoints: np.ndarray) -> np.ndarray:

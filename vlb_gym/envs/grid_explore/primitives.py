@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -26,12 +27,23 @@ def sensed_cells(size: int, cell: Cell) -> tuple[np.ndarray, np.ndarray]:
     return np.array([a for a, _ in keep]), np.array([b for _, b in keep])
 
 
+@lru_cache(maxsize=1)
+def controller() -> ModuleType:
+    """The navigate controller's functions: :mod:`.compiled` when Numba is installed (extra
+    ``fast``), else the plain :mod:`.planner`; both give the same numbers."""
+    try:
+        from . import compiled
+    except ImportError:
+        return planner
+    return compiled
+
+
 def cost_to_go(state: GridState, target: Cell) -> np.ndarray:
     """Cached optimal cost-to-go to ``target`` in the true environment."""
     key = target[0] * state.size + target[1]
     dist = state.distances.get(key)
     if dist is None:
-        dist = state.distances[key] = planner.cost_to_go(state.truth != OBSTACLE, target)
+        dist = state.distances[key] = controller().cost_to_go(state.truth != OBSTACLE, target)
     return dist
 
 
@@ -116,15 +128,13 @@ class Navigate(MotionPrimitive[GridState]):
         return InCell(tuple(param))
 
     def run(self, state: GridState, param: Cell, rng: np.random.Generator) -> dict[str, Any]:
-        path = planner.greedy_path(cost_to_go(state, tuple(param)), state.cell)
-        waypoints = np.array(path[1:] or path, dtype=float)
-        waypoints -= state.size / 2 - 0.5  # cell centres
-        ref = planner.reference(state.position, waypoints)
+        kernels = controller()
+        waypoints = kernels.waypoints(cost_to_go(state, tuple(param)), state.cell)
         noise = None
         if self.action_noise > 0:
-            noise = rng.normal(0.0, planner.DT * self.action_noise, size=ref.shape)
-        trajectory = planner.track(state.position, ref, noise)
-        hit = planner.first_collision(trajectory, state.blocked)
+            shape = (kernels.steps(state.position, waypoints), 2)
+            noise = rng.normal(0.0, planner.DT * self.action_noise, size=shape)
+        trajectory, hit = kernels.rollout(state.position, waypoints, noise, state.blocked)
         if hit < 0:
             state.trail.append(trajectory)
             state.position = trajectory[-1]
