@@ -210,6 +210,10 @@ def test_grid_too_crowded_to_sample_is_a_value_error():
     ({"height": 2.5}, TypeError, "height must be an integer"),
     ({"sleep_tolerance": 0.5}, ValueError, "sleep_tolerance must be >= 0.0 and <= 0.1"),
     ({"sleep_tolerance": "fast"}, TypeError, "sleep_tolerance"),
+    ({"solver_iterations": 0}, ValueError, "solver_iterations must be >= 1 and <= 200"),
+    ({"solver_iterations": 20.0}, TypeError, "solver_iterations must be an integer"),
+    ({"solver_tolerance": 0.0}, ValueError, "solver_tolerance must be >= 1e-10 and <= 0.01"),
+    ({"solver_tolerance": float("inf")}, ValueError, "solver_tolerance must be finite"),
 ])
 def test_scoop_constructor_checks_its_arguments(kwargs, error, message):
     pytest.importorskip("mujoco")

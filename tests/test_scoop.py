@@ -1,8 +1,13 @@
 """VLB-Scoop-v0 at small scale: kinematics against the DH table, piles at rest (and asleep),
-perception from a rendered depth image, admissibility, a real scoop moving mass, and sleeping
-physics within the plain physics' band."""
+perception from a rendered depth image, admissibility, a real scoop moving mass, and the default
+(sleeping, shorter CG) physics within the plain physics' band."""
 
 from __future__ import annotations
+
+import dataclasses
+import os
+import subprocess
+import sys
 
 import gymnasium as gym
 import numpy as np
@@ -16,7 +21,7 @@ from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
 from vlb_gym.envs.scoop.kinematics import Kinematics, matrix_rpy, rpy_matrix
 from vlb_gym.envs.scoop.perception import locate_containers
 from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
-                                      RECEIVER_WALL, build_scene)
+                                      PLAIN, RECEIVER_WALL, build_scene)
 from vlb_gym.verify import run_episode
 
 import mujoco  # noqa: E402, I001 - after vlb_gym.envs.scoop (see above)
@@ -114,27 +119,44 @@ def test_envs_place_containers_in_their_own_models():
 
 
 SEEDS_IN_BAND = range(6)
+PLAIN_PHYSICS = dataclasses.asdict(PLAIN)  # the env's kwargs of the same names
 
 
-def test_sleeping_keeps_the_masses_within_the_plain_physics_band():
-    """Sleeping grains change trajectories, not the physics: over the same reset seeds, the mean
-    masses with sleeping and with every grain simulated (``sleep_tolerance=0``) agree within a
-    band of about one standard deviation of a single scoop (7 g delivered, 3 g spilled; see
+def test_default_physics_keeps_the_masses_within_the_plain_physics_band():
+    """Sleeping grains and the shorter CG solve change trajectories, not the physics: over the
+    same reset seeds, the mean masses with the defaults and with the plain physics (every grain
+    simulated at every step, 30 CG iterations, tolerance 1e-6) agree within a band of about one
+    standard deviation of a single scoop (7 g delivered, 3 g spilled; see
     ``benchmarks/scoop_physics.py``), and every certificate holds in both."""
     masses = {}
-    for tolerance in (0.0, 0.03):
-        env = ScoopEnv(sleep_tolerance=tolerance)
+    for name, physics in (("plain", PLAIN_PHYSICS), ("default", {})):
+        env = ScoopEnv(**physics)
         rows = []
         for seed in SEEDS_IN_BAND:
             env.reset(seed=seed)
             info = env.step(POSE)[4]
-            assert info["certificate"], (tolerance, seed, info)
+            assert info["certificate"], (name, seed, info)
             rows.append([info["mass_scooped"], info["mass_delivered"], info["mass_spilled"]])
         env.close()
-        masses[tolerance] = np.array(rows)
-    difference = masses[0.03].mean(axis=0) - masses[0.0].mean(axis=0)
+        masses[name] = np.array(rows)
+    difference = masses["default"].mean(axis=0) - masses["plain"].mean(axis=0)
     assert np.all(np.abs(difference) <= [8.0, 7.0, 3.0]), difference
-    assert masses[0.03][:, 1].min() >= 10  # nothing frozen in the scoop: every scoop delivers
+    assert masses["default"][:, 1].min() >= 10  # nothing frozen in the scoop: every scoop delivers
+
+
+def test_physics_arguments_reach_the_model():
+    env = ScoopEnv(sleep_tolerance=0.0, solver_iterations=7, solver_tolerance=1e-4)
+    env.reset(seed=0)
+    opt = env.state.scene.model.opt
+    assert (opt.iterations, opt.tolerance, opt.sleep_tolerance) == (7, 1e-4, 0.0)
+    assert not opt.enableflags & int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    env.close()
+    env = ScoopEnv()
+    env.reset(seed=0)
+    opt = env.state.scene.model.opt
+    assert (opt.iterations, opt.tolerance, opt.sleep_tolerance) == (20, 1e-5, 0.03)
+    assert opt.enableflags & int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    env.close()
 
 
 def test_perception_locates_containers_from_a_depth_image(env):
@@ -217,3 +239,16 @@ def test_depth_rendering():
     assert depth.dtype == np.float32 and depth.ndim == 2
     assert 0.3 < np.median(depth) < 0.7  # the table, about half a metre below the camera
     env.close()
+
+
+def test_mujoco_imported_first_without_a_display_says_what_to_do():
+    """MuJoCo imported before vlb_gym picks GLFW; rendering then fails with the fix named."""
+    code = ("import mujoco, gymnasium as gym, vlb_gym\n"
+            "env = gym.make('VLB-Scoop-v0', render_mode='rgb_array')\n"
+            "env.reset(seed=0)\n"
+            "try:\n    env.render()\nexcept RuntimeError as exc:\n    print(exc)\n")
+    environ = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "DISPLAY",
+                                                                "PYOPENGL_PLATFORM")}
+    out = subprocess.run([sys.executable, "-c", code], env=environ, capture_output=True,
+                         text=True, timeout=120)
+    assert "set MUJOCO_GL=egl (or osmesa) or import vlb_gym first" in out.stdout, out.stderr

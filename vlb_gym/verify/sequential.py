@@ -62,7 +62,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
-from scipy.optimize import brentq
 from scipy.special import betaln
 
 from . import bounds
@@ -105,6 +104,7 @@ def confidence_sequence(successes: int, failures: int, delta: float, a: float,
     n = successes + failures
     if n == 0:
         return 0.0, 1.0
+    from scipy.optimize import brentq  # here: it takes 0.25 s to import, and workers import us
     threshold = -math.log(delta)
     mle = successes / n
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from vlb_gym.core.primitive import ControllerFailure
 
+from . import gl
 from .kinematics import IKFailure, rpy_matrix
 from .motion import ArmDriver, tool_rotation
 from .perception import Estimate, PerceptionFailure, depth_to_points, locate_containers
@@ -33,7 +34,7 @@ class DepthCamera:
     def __init__(self, scene: Scene):
         self.model = scene.model
         self.camera = scene.model.camera("wrist").id
-        self.renderer = mujoco.Renderer(scene.model, *CAMERA_SIZE)
+        self.renderer = gl.renderer(scene.model, *CAMERA_SIZE)
         self.renderer.enable_depth_rendering()
 
     def depth(self, data: mujoco.MjData) -> np.ndarray:

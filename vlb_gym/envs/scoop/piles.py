@@ -14,7 +14,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from .scene import DONOR_HALF, FLOOR, GRAIN_RADIUS, build_scene
+from .scene import DONOR_HALF, FLOOR, GRAIN_RADIUS, PLAIN, build_scene
 from .types import PILE_STYLES
 
 GRAIN_COUNTS = (230, 260, 290)
@@ -37,7 +37,7 @@ def _initial(style: str, n: int, rng: np.random.Generator) -> np.ndarray:
 def settle(style: str, n: int, seed: int) -> np.ndarray:
     """A settled pile: (n, 7) positions and quaternions relative to the donor frame."""
     # no sleeping: grains asleep in the tilted donor would not feel the gravity turn back
-    scene = build_scene(n).own_copy(sleep_tolerance=0.0)
+    scene = build_scene(n).own_copy(PLAIN)
     model = scene.model
     scene.place_container(scene.donor_body, 0.0, 0.0, 0.0)
     scene.place_container(scene.receiver_body, 0.0, 0.6, 0.0)

@@ -24,6 +24,21 @@ FLOOR = 0.01
 
 
 @dataclass(frozen=True)
+class Physics:
+    """The simulation settings an env chooses over the asset's: island sleeping (grains whose
+    speeds stay under ``sleep_tolerance`` for 10 steps are frozen until something awake touches
+    them; 0: every grain simulated at every step) and the CG solver's iteration cap and
+    tolerance. :data:`PLAIN` is the physics before any speed-up (shipped piles settle in it)."""
+
+    sleep_tolerance: float = 0.03  # m/s, and rad/s times the grain radius
+    solver_iterations: int = 20
+    solver_tolerance: float = 1e-5
+
+
+PLAIN = Physics(sleep_tolerance=0.0, solver_iterations=30, solver_tolerance=1e-6)
+
+
+@dataclass(frozen=True)
 class Scene:
     """A compiled model with ``n_grains`` grains and the indices the env needs."""
 
@@ -36,14 +51,15 @@ class Scene:
     donor_body: int  # the containers: static bodies, placed by writing their poses
     receiver_body: int
 
-    def own_copy(self, sleep_tolerance: float) -> Scene:
+    def own_copy(self, physics: Physics) -> Scene:
         """This scene with a model of its own, to place containers in (:meth:`place_container`)
-        without touching the shared compiled model; grains sleep under ``sleep_tolerance``
-        (0: never, every grain simulated at every step)."""
+        without touching the shared compiled model, simulated with ``physics``."""
         model = copy.copy(self.model)
-        model.opt.sleep_tolerance = sleep_tolerance
-        if not sleep_tolerance:
+        model.opt.sleep_tolerance = physics.sleep_tolerance
+        if not physics.sleep_tolerance:
             model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+        model.opt.iterations = physics.solver_iterations
+        model.opt.tolerance = physics.solver_tolerance
         return replace(self, model=model)
 
     def place_container(self, body: int, x: float, y: float, yaw: float) -> None:
