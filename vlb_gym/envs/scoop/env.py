@@ -19,7 +19,7 @@ from .generator import place, sample_environment
 from .helpers import ScoopHelpers
 from .kinematics import Kinematics, matrix_rpy, rpy_matrix
 from .primitives import Scoop
-from .scene import GRAIN_MASS, Physics, Scene, build_scene
+from .scene import DEFAULT_PHYSICS, GRAIN_MASS, Physics, Scene, build_scene
 from .types import ScoopState
 
 MAX_PLACEMENT_NOISE = 0.04  # m: the containers, shifted by up to 2.5 sigma, never overlap
@@ -103,8 +103,9 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
     def __init__(self, render_mode: str | None = None, placement_noise: float = 0.02,
                  yaw_noise_deg: float = 8.0, grain_counts: tuple[int, ...] = piles.GRAIN_COUNTS,
                  delivered_threshold_g: float = 10.0, width: int = 480, height: int = 480,
-                 sleep_tolerance: float = 0.03, solver_iterations: int = 20,
-                 solver_tolerance: float = 1e-5):
+                 sleep_tolerance: float = DEFAULT_PHYSICS.sleep_tolerance,
+                 solver_iterations: int = DEFAULT_PHYSICS.solver_iterations,
+                 solver_tolerance: float = DEFAULT_PHYSICS.solver_tolerance):
         self.placement_noise = arguments.real("placement_noise", placement_noise, 0.0,
                                               MAX_PLACEMENT_NOISE)
         self.yaw_noise_deg = arguments.real("yaw_noise_deg", yaw_noise_deg, 0.0, MAX_YAW_NOISE_DEG)

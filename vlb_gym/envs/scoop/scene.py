@@ -35,6 +35,7 @@ class Physics:
     solver_tolerance: float = 1e-5
 
 
+DEFAULT_PHYSICS = Physics()
 PLAIN = Physics(sleep_tolerance=0.0, solver_iterations=30, solver_tolerance=1e-6)
 
 
