@@ -25,9 +25,10 @@ EMPTY, OBSTACLE, UNEXPLORED, GOAL = (int(label) for label in Label)
 
 def cell_of(position: np.ndarray, size: int) -> tuple[int, int]:
     """The cell containing ``position`` (points on the outer boundary clip inward)."""
-    half = size / 2
-    return (min(max(math.floor(position[0] + half), 0), size - 1),
-            min(max(math.floor(position[1] + half), 0), size - 1))
+    half, top = size / 2, size - 1
+    x, y = position.tolist()  # Python floats: a third of the time of indexing the array
+    i, j = math.floor(x + half), math.floor(y + half)
+    return (0 if i < 0 else top if i > top else i, 0 if j < 0 else top if j > top else j)
 
 
 @dataclass
