@@ -73,6 +73,29 @@ def test_policy_exception_fails_the_episode_not_the_caller(grid_env):
     assert result.rho == -1 and "KeyError" in result.reason and "boom" in result.reason
 
 
+def chained_interrupt() -> SystemError:
+    """What a C extension raises when Ctrl-C arrives while it calls back into Python."""
+    try:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as interrupt:
+            raise SystemError("returned a result with an exception set") from interrupt
+    except SystemError as exc:
+        return exc
+
+
+def test_ctrl_c_inside_a_c_extension_interrupts_instead_of_failing_the_episode(grid_env):
+    """Seen with Numba: Ctrl-C during a compiled navigate came back as a SystemError, and the
+    campaign stored it as a failed episode and went on."""
+    with pytest.raises(KeyboardInterrupt):
+        run_episode(grid_env, Scripted([sense_here], then=chained_interrupt()), seed=0)
+
+
+def test_a_system_error_of_its_own_still_fails_only_the_episode(grid_env):
+    result = run_episode(grid_env, Scripted([sense_here], then=SystemError("bad")), seed=0)
+    assert result.rho == -1 and "SystemError: bad" in result.reason
+
+
 def test_wrapper_writes_rho_into_info_on_termination(grid_env):
     env = RobustnessWrapper(gym.make("VLB-GridExplore-v0", max_episode_steps=2))
     obs, _ = env.reset(seed=1)

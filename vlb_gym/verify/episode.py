@@ -111,13 +111,28 @@ def step_record(info: dict[str, Any], node: str | None) -> dict[str, Any]:
             "cause": None if held else certificate_cause(info)}
 
 
+def interrupted(exc: BaseException) -> bool:
+    """Whether a KeyboardInterrupt caused ``exc``: C extensions (Numba's compiled code among
+    them) turn one raised while they call back into Python into a SystemError it is the cause
+    of."""
+    seen: set[int] = set()
+    link: BaseException | None = exc
+    while link is not None and id(link) not in seen:
+        if isinstance(link, KeyboardInterrupt):
+            return True
+        seen.add(id(link))
+        link = link.__cause__ or link.__context__
+    return False
+
+
 def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 0,
                 stop_on_failure: bool = True,
                 on_step: Callable[[dict[str, Any]], None] | None = None) -> EpisodeResult:
     """Run ``policy`` from ``env.reset(seed=seed)`` until it finishes or the episode ends.
 
     Any exception from the policy or the environment fails this episode (rho_B = -1, with the
-    reason) instead of propagating. With ``stop_on_failure`` the episode stops at the first failed
+    reason) instead of propagating, except one a KeyboardInterrupt caused (:func:`interrupted`),
+    which raises KeyboardInterrupt. With ``stop_on_failure`` the episode stops at the first failed
     certificate, since rho_B is then already -1. ``on_step`` is called with None after the
     reset and with every step's info after the step.
     """
@@ -143,6 +158,8 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
             if stop_on_failure and env.failed:
                 env.end(finished=False)
     except Exception as exc:  # an episode's failure, never the campaign's end
+        if interrupted(exc):  # Ctrl-C, not a failure: never stored as one
+            raise KeyboardInterrupt from exc
         frame = traceback.extract_tb(exc.__traceback__)[-1]
         error = "".join(traceback.format_exception(exc))[-_MAX_TRACEBACK:]
         env.end(finished=False, reason=f"{type(exc).__name__}: {exc} "
