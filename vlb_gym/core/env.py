@@ -36,7 +36,7 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
     Subclasses call ``super().__init__(primitives, observation_space, render_mode)`` and
     implement :meth:`sample_state`, :meth:`observation`, :meth:`make_helpers` and
     :meth:`sampling_distribution`; they may override :meth:`reset_info`, :meth:`step_info`,
-    :meth:`reward`, :meth:`render` and :meth:`film`. Every step's ``info`` holds ``primitive``,
+    :meth:`reward`, :meth:`render` and :meth:`film`, and name slow imports in :attr:`preload`. Every step's ``info`` holds ``primitive``,
     ``param``, ``admissible``, ``certificate`` (and ``reason`` when it failed), the parts'
     certificates and the measurements of the primitive (:class:`~vlb_gym.core.primitive.Outcome`),
     plus what :meth:`step_info` adds. The env never terminates by itself: a behavior decides when
