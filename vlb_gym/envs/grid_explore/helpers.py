@@ -65,8 +65,9 @@ class GridHelpers(Helpers):
         """E2: the cells 4-adjacent to ``cell`` (default: the agent's cell), inside the grid."""
         if type(cell) is tuple and len(cell) == 2:  # _index's fast path, inlined: a hot call
             i, j = cell
-            if type(i) is int and type(j) is int and 0 <= i < self.size and 0 <= j < self.size:
-                return self._adjacent[i * self.size + j]
+            size = self.size
+            if type(i) is int and type(j) is int and 0 <= i < size and 0 <= j < size:
+                return self._adjacent[i * size + j]
         return self._adjacent[self._index(self._here if cell is None else cell, "adjacent")]
 
     @helper
@@ -92,6 +93,7 @@ class GridHelpers(Helpers):
         """The agent's label of ``cell``: 'empty', 'obstacle', 'unexplored' or 'goal'."""
         if type(cell) is tuple and len(cell) == 2:  # _index's fast path, inlined: the hot call
             i, j = cell
-            if type(i) is int and type(j) is int and 0 <= i < self.size and 0 <= j < self.size:
-                return LABEL_NAMES[self._labels[i * self.size + j]]
+            size = self.size
+            if type(i) is int and type(j) is int and 0 <= i < size and 0 <= j < size:
+                return LABEL_NAMES[self._labels[i * size + j]]
         return LABEL_NAMES[self._labels[self._index(cell, "label")]]
