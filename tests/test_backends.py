@@ -80,6 +80,22 @@ def test_process_setup_failure_is_raised_as_itself():
     assert "failing_setup" in str(info.value.__cause__)  # the worker's traceback
 
 
+def test_process_setup_failure_before_the_first_chunk_is_sent(monkeypatch):
+    """A worker whose setup fails at once may be gone before the parent sends it work: the
+    send's broken pipe must not hide the worker's own error (seen in CI)."""
+    from vlb_gym.verify import backends
+
+    started = backends._Worker.__init__
+
+    def exited_before_feeding(self, *args):
+        started(self, *args)
+        self.process.join(30)  # the worker has reported its error and exited
+
+    monkeypatch.setattr(backends._Worker, "__init__", exited_before_feeding)
+    with pytest.raises(tasks.SetupError, match="no runner today"):
+        list(run_indices(tasks.failing_setup, range(40), backend="process", workers=2))
+
+
 def test_process_worker_death_reruns_the_index(tmp_path):
     marker = tmp_path / "died"
     setup = functools.partial(tasks.dies_once, str(marker))

@@ -244,7 +244,11 @@ def _process(setup: Callable[[], Callable[[int], T]], indices: list[int], worker
     def feed(worker: _Worker) -> None:
         while todo and len(worker.chunks) < _IN_FLIGHT:
             chunk = todo.popleft()
-            worker.conn.send(chunk)
+            try:
+                worker.conn.send(chunk)
+            except OSError:  # it has exited (a failed setup is quick): the loop reads why
+                todo.appendleft(chunk)
+                return
             worker.chunks.append(chunk)
 
     def died(worker: _Worker) -> None:
