@@ -53,7 +53,7 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
     with each other whose speeds all stay under ``sleep_tolerance`` for 10 steps are frozen (not
     simulated) until something awake touches them, so the pile costs nothing while the scoop is
     elsewhere. ``sleep_tolerance=0, solver_iterations=30, solver_tolerance=1e-6`` is the plain
-    physics these settings were checked against (same masses within noise; about 3.5x slower).
+    physics these settings were checked against (same masses within noise; about 3x slower).
 
     One primitive, ``scoop`` (P^r): move to the sensing pose, render a depth image from the wrist
     camera, locate both containers in it (no simulator ground truth), then scoop, lift, transfer,
