@@ -68,6 +68,18 @@ def test_compiled_planner_rejects_unreachable_starts_like_the_plain_one():
         passable, (1, 1)))  # an obstacle target: unreachable everywhere
 
 
+def test_compiled_functions_check_what_compiled_code_would_not():
+    passable = np.ones((4, 4), dtype=bool)
+    for target in ((4, 0), (-1, 2)):
+        with pytest.raises(IndexError, match="outside the 4x4 grid"):
+            compiled.cost_to_go(passable, target)
+        with pytest.raises(IndexError, match="outside the 4x4 grid"):
+            compiled.waypoints(planner.cost_to_go(passable, (0, 0)), target)
+    centres = np.array([[0.5, 0.5]])
+    with pytest.raises(ValueError, match="noise of shape"):
+        compiled.rollout(np.zeros(2), centres, np.zeros((1, 2)), planner.padded_blocked(passable))
+
+
 def trails(kernels, monkeypatch, action_noise: float) -> list:
     """Every episode's trajectories, certificates and final state with ``kernels``."""
     monkeypatch.setattr(primitives, "controller", lambda: kernels)

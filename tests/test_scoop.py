@@ -144,6 +144,31 @@ def test_default_physics_keeps_the_masses_within_the_plain_physics_band():
     assert masses["default"][:, 1].min() >= 10  # nothing frozen in the scoop: every scoop delivers
 
 
+def test_the_guarantee_names_the_physics_so_a_store_of_other_physics_is_refused(tmp_path):
+    from vlb_gym.verify.campaign import Campaign, CampaignConfig
+    from vlb_gym.verify.store import CampaignStore, StoreError
+
+    def plan(physics):
+        config = CampaignConfig("VLB-Scoop-v0", "scoop_repeatedly", 2, epsilon=0.05,
+                                env_kwargs=physics)
+        with Campaign(config) as campaign:
+            return campaign.plan
+
+    default, plain = plan({}), plan(PLAIN_PHYSICS)
+    assert default["sampling_distribution"].endswith(
+        "simulated with 4 ms steps, CG capped at 20 iterations (tolerance 1e-05), island "
+        "sleeping under 0.03 m/s")
+    assert "CG capped at 30 iterations (tolerance 1e-06), no sleeping" in plain[
+        "sampling_distribution"]
+    store = CampaignStore(tmp_path / "s.db")
+    try:
+        store.start({**plain, "env_kwargs": {}})  # as a store made before the defaults changed
+        with pytest.raises(StoreError, match="sampling_distribution"):
+            store.start(default)
+    finally:
+        store.close()
+
+
 def test_physics_arguments_reach_the_model():
     env = ScoopEnv(sleep_tolerance=0.0, solver_iterations=7, solver_tolerance=1e-4)
     env.reset(seed=0)

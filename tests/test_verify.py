@@ -96,6 +96,18 @@ def test_a_system_error_of_its_own_still_fails_only_the_episode(grid_env):
     assert result.rho == -1 and "SystemError: bad" in result.reason
 
 
+def test_an_error_raised_while_handling_an_interrupt_is_the_episodes_failure(grid_env):
+    try:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            raise ValueError("cleanup failed") from None
+    except ValueError as exc:
+        error = exc
+    result = run_episode(grid_env, Scripted([sense_here], then=error), seed=0)
+    assert result.rho == -1 and "ValueError: cleanup failed" in result.reason
+
+
 def test_wrapper_writes_rho_into_info_on_termination(grid_env):
     env = RobustnessWrapper(gym.make("VLB-GridExplore-v0", max_episode_steps=2))
     obs, _ = env.reset(seed=1)

@@ -112,17 +112,11 @@ def step_record(info: dict[str, Any], node: str | None) -> dict[str, Any]:
 
 
 def interrupted(exc: BaseException) -> bool:
-    """Whether a KeyboardInterrupt caused ``exc``: C extensions (Numba's compiled code among
-    them) turn one raised while they call back into Python into a SystemError it is the cause
-    of."""
-    seen: set[int] = set()
-    link: BaseException | None = exc
-    while link is not None and id(link) not in seen:
-        if isinstance(link, KeyboardInterrupt):
-            return True
-        seen.add(id(link))
-        link = link.__cause__ or link.__context__
-    return False
+    """Whether ``exc`` is a KeyboardInterrupt in disguise: C extensions (Numba's compiled code
+    among them) turn one raised while they call back into Python into a SystemError whose cause
+    it is. Only that pattern: an error raised on purpose while handling an interrupt is the
+    episode's failure."""
+    return isinstance(exc, SystemError) and isinstance(exc.__cause__, KeyboardInterrupt)
 
 
 def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 0,

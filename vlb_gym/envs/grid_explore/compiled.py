@@ -135,16 +135,25 @@ def _rollout(start: np.ndarray, waypoints: np.ndarray, noise: np.ndarray,
     return out, hit
 
 
+def _cell(grid: np.ndarray, cell: tuple[int, int]) -> tuple[int, int]:
+    """``cell``, checked to lie in ``grid`` (compiled code does not check its indices)."""
+    i, j = cell
+    if not (0 <= i < grid.shape[0] and 0 <= j < grid.shape[1]):
+        raise IndexError(f"cell {cell} is outside the {grid.shape[0]}x{grid.shape[1]} grid")
+    return i, j
+
+
 def cost_to_go(passable: np.ndarray, target: tuple[int, int]) -> np.ndarray:
     """:func:`.planner.cost_to_go`, compiled."""
-    return _cost_to_go(passable, target[0], target[1])
+    return _cost_to_go(passable, *_cell(passable, target))
 
 
 def waypoints(dist: np.ndarray, start: tuple[int, int]) -> np.ndarray:
     """:func:`.planner.waypoints`, compiled."""
-    if dist[start] == UNREACHABLE:
+    i, j = _cell(dist, start)
+    if dist[i, j] == UNREACHABLE:
         raise ValueError(f"cell {start} cannot reach the target")
-    return _waypoints(dist, start[0], start[1])
+    return _waypoints(dist, i, j)
 
 
 def steps(start: np.ndarray, waypoints: np.ndarray) -> int:
@@ -155,7 +164,11 @@ def steps(start: np.ndarray, waypoints: np.ndarray) -> int:
 def rollout(start: np.ndarray, waypoints: np.ndarray, noise: np.ndarray | None,
             blocked: np.ndarray) -> tuple[np.ndarray, int]:
     """:func:`.planner.rollout`, compiled."""
-    return _rollout(start, waypoints, _EMPTY if noise is None else noise, blocked)
+    if noise is None:
+        noise = _EMPTY
+    elif noise.shape != (steps(start, waypoints), 2):
+        raise ValueError(f"noise of shape {noise.shape}: expected (steps, 2)")
+    return _rollout(start, waypoints, noise, blocked)
 
 
 def _load() -> None:

@@ -227,4 +227,15 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
                 f"independent Gaussian noise (sigma {self.placement_noise:g} m in x and y, "
                 f"{self.yaw_noise_deg:g} deg in yaw, truncated at 2.5 sigma), sand level uniform "
                 f"over {list(self.grain_counts)} grains of {GRAIN_MASS * 1000:.2f} g, pile flat, "
-                "tilted or heaped (uniform); arm starting at the default sensing pose")
+                "tilted or heaped (uniform); arm starting at the default sensing pose; "
+                f"{self._physics_words()}")
+
+    def _physics_words(self) -> str:
+        """The simulation the guarantee holds in (a store made under other settings is refused
+        on resume, since its plan says this)."""
+        physics = self.physics
+        step_ms = build_scene(self.grain_counts[0]).model.opt.timestep * 1000  # the asset's
+        sleeping = (f"island sleeping under {physics.sleep_tolerance:g} m/s"
+                    if physics.sleep_tolerance else "no sleeping")
+        return (f"simulated with {step_ms:g} ms steps, CG capped at {physics.solver_iterations} "
+                f"iterations (tolerance {physics.solver_tolerance:g}), {sleeping}")
