@@ -16,6 +16,7 @@ noise.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import platform
 import statistics
@@ -27,11 +28,12 @@ from scipy import stats
 
 import vlb_gym  # noqa: F401 - registers the envs
 from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
+from vlb_gym.envs.scoop.scene import DEFAULT_PHYSICS, PLAIN
 
 MASSES = ("mass_scooped", "mass_delivered", "mass_spilled")
 PHYSICS = {
-    "plain": {"sleep_tolerance": 0.0, "solver_iterations": 30, "solver_tolerance": 1e-6},
-    "sleeping": {"sleep_tolerance": 0.03, "solver_iterations": 30, "solver_tolerance": 1e-6},
+    "plain": dataclasses.asdict(PLAIN),
+    "sleeping": {**dataclasses.asdict(PLAIN), "sleep_tolerance": DEFAULT_PHYSICS.sleep_tolerance},
     "default": {},
 }
 

@@ -134,9 +134,7 @@ class Budget:
         """A list or tuple just built, checked against MAX_SIZE and charged its length."""
         if len(value) > MAX_SIZE:
             raise EvaluationLimitError(f"a sequence of more than {MAX_SIZE} elements was built")
-        self.work -= len(value)  # charge(), inlined here and below: these run in hot loops
-        if self.work < 0:
-            self.charge(0)
+        self.charge(len(value))
         return value
 
     def integer(self, value: Any) -> Any:
@@ -149,9 +147,7 @@ class Budget:
         self.calls -= 1
         if self.calls < 0:
             raise EvaluationLimitError(f"evaluation made more than {MAX_CALLS} function calls")
-        self.work -= weight
-        if self.work < 0:
-            self.charge(0)
+        self.charge(weight)
 
     def items(self, iterable: Iterable[Any], weight: int = 1) -> list[Any]:
         """A comprehension source as a list of at most MAX_SIZE items, each charged ``weight``
@@ -167,9 +163,7 @@ class Budget:
                 items.append(item)
                 if len(items) > MAX_SIZE:
                     raise EvaluationLimitError(f"comprehension source exceeds {MAX_SIZE} items")
-        self.work -= len(items) * weight
-        if self.work < 0:
-            self.charge(0)
+        self.charge(len(items) * weight)
         return items
 
     def operand(self, value: Any) -> Any:
@@ -309,7 +303,7 @@ class Budget:
     def _charged(self, fn: Callable[..., Any]) -> Callable[..., Any]:
         def charged(*args: Any) -> Any:
             result = fn(*args)
-            self.work -= len(result)  # charge(), inlined (see sized)
+            self.work -= len(result)  # charge(), inlined: helpers are called in hot loops
             if self.work < 0:
                 self.charge(0)
             return result

@@ -103,6 +103,8 @@ def _rollout(start: np.ndarray, waypoints: np.ndarray, noise: np.ndarray,
     fx[0], fy[0] = start[0], start[1]
     fx[1:], fy[1:] = waypoints[:, 0], waypoints[:, 1]
     length, count = xp[-1], _steps(xp)
+    if noise.shape[0] not in (0, count) or noise.shape[1] != 2:
+        raise ValueError("noise of shape other than (steps, 2)")
     size = blocked.shape[0] - 2
     shift = size / 2 + 1
     out = np.empty((count, 2))
@@ -164,22 +166,15 @@ def steps(start: np.ndarray, waypoints: np.ndarray) -> int:
 def rollout(start: np.ndarray, waypoints: np.ndarray, noise: np.ndarray | None,
             blocked: np.ndarray) -> tuple[np.ndarray, int]:
     """:func:`.planner.rollout`, compiled."""
-    if noise is None:
-        noise = _EMPTY
-    elif noise.shape != (steps(start, waypoints), 2):
-        raise ValueError(f"noise of shape {noise.shape}: expected (steps, 2)")
-    return _rollout(start, waypoints, noise, blocked)
+    return _rollout(start, waypoints, _EMPTY if noise is None else noise, blocked)
 
 
 def _load() -> None:
     """Load every function's machine code now (from the cache, or compiling it), so that
     processes forked after the import (campaign workers) start with it."""
-    passable = np.ones((2, 2), dtype=bool)
-    centres = waypoints(cost_to_go(passable, (0, 0)), (1, 1))
+    centres = waypoints(cost_to_go(np.ones((2, 2), dtype=bool), (0, 0)), (1, 1))
     steps(np.zeros(2), centres)
     rollout(np.zeros(2), centres, None, np.zeros((4, 4), dtype=bool))
-    rollout(np.zeros(2), centres, np.zeros((steps(np.zeros(2), centres), 2)),
-            np.zeros((4, 4), dtype=bool))
 
 
 _load()

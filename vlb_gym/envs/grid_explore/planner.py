@@ -93,12 +93,23 @@ def waypoints(dist: np.ndarray, start: tuple[int, int]) -> np.ndarray:
     return centres
 
 
-def steps(start: np.ndarray, waypoints: np.ndarray) -> int:
-    """Number of steps of the reference from ``start`` through ``waypoints``."""
+def _arc_lengths(start: np.ndarray, waypoints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The points ``start, *waypoints`` and the path length up to each."""
     points = np.concatenate([start[None], waypoints])
     step = np.diff(points, axis=0)
-    length = np.cumsum(np.hypot(step[:, 0], step[:, 1]))[-1]
+    cumulative = np.zeros(len(points))
+    np.cumsum(np.hypot(step[:, 0], step[:, 1]), out=cumulative[1:])
+    return points, cumulative
+
+
+def _count(length: float) -> int:
+    """Steps of a reference of ``length``: moving at SPEED, then SETTLE steps holding."""
     return int(np.ceil(length / (SPEED * DT))) + SETTLE
+
+
+def steps(start: np.ndarray, waypoints: np.ndarray) -> int:
+    """Number of steps of the reference from ``start`` through ``waypoints``."""
+    return _count(_arc_lengths(start, waypoints)[1][-1])
 
 
 def rollout(start: np.ndarray, waypoints: np.ndarray, noise: np.ndarray | None,
@@ -111,12 +122,9 @@ def rollout(start: np.ndarray, waypoints: np.ndarray, noise: np.ndarray | None,
 
 def reference(start: np.ndarray, waypoints: np.ndarray) -> np.ndarray:
     """Reference positions, one per step: along ``start -> waypoints`` at SPEED, then hold."""
-    points = np.concatenate([start[None], waypoints])
-    step = np.diff(points, axis=0)
-    cumulative = np.zeros(len(points))
-    np.cumsum(np.hypot(step[:, 0], step[:, 1]), out=cumulative[1:])
+    points, cumulative = _arc_lengths(start, waypoints)
     length = cumulative[-1]
-    s = np.arange(1, int(np.ceil(length / (SPEED * DT))) + SETTLE + 1) * (SPEED * DT)
+    s = np.arange(1, _count(length) + 1) * (SPEED * DT)
     np.minimum(s, length, out=s)
     return np.column_stack([np.interp(s, cumulative, points[:, 0]),
                             np.interp(s, cumulative, points[:, 1])])

@@ -28,7 +28,8 @@ class Physics:
     """The simulation settings an env chooses over the asset's: island sleeping (grains whose
     speeds stay under ``sleep_tolerance`` for 10 steps are frozen until something awake touches
     them; 0: every grain simulated at every step) and the CG solver's iteration cap and
-    tolerance. :data:`PLAIN` is the physics before any speed-up (shipped piles settle in it)."""
+    tolerance. :data:`PLAIN` is the asset's own: the physics before any speed-up (shipped piles
+    settle in it)."""
 
     sleep_tolerance: float = 0.03  # m/s, and rad/s times the grain radius
     solver_iterations: int = 20
@@ -57,8 +58,9 @@ class Scene:
         without touching the shared compiled model, simulated with ``physics``."""
         model = copy.copy(self.model)
         model.opt.sleep_tolerance = physics.sleep_tolerance
-        if not physics.sleep_tolerance:
-            model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+        sleep = int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+        model.opt.enableflags = (model.opt.enableflags | sleep if physics.sleep_tolerance
+                                 else model.opt.enableflags & ~sleep)
         model.opt.iterations = physics.solver_iterations
         model.opt.tolerance = physics.solver_tolerance
         return replace(self, model=model)
