@@ -214,6 +214,9 @@ def test_grid_too_crowded_to_sample_is_a_value_error():
     ({"solver_iterations": 20.0}, TypeError, "solver_iterations must be an integer"),
     ({"solver_tolerance": 0.0}, ValueError, "solver_tolerance must be >= 1e-10 and <= 0.01"),
     ({"solver_tolerance": float("inf")}, ValueError, "solver_tolerance must be finite"),
+    ({"solver_iterations": 10**9}, ValueError, "solver_iterations must be >= 1 and <= 200"),
+    ({"solver_iterations": True}, TypeError, "solver_iterations must be an integer"),
+    ({"solver_tolerance": "nan"}, TypeError, "solver_tolerance must be a number"),
 ])
 def test_scoop_constructor_checks_its_arguments(kwargs, error, message):
     pytest.importorskip("mujoco")
