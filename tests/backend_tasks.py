@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import gc
 import os
 import signal
 import time
@@ -30,6 +31,16 @@ def _threads(i: int) -> tuple[int, dict[str, str | None]]:
 def thread_pools():
     """runner(i) = (i, the worker's OpenMP setting and torch's intra-op threads)."""
     return _threads
+
+
+def _collector(built: list[int], i: int) -> tuple[int, dict[str, int]]:
+    return i, {"built": built[0], "frozen": gc.get_freeze_count()}
+
+
+def collector_state():
+    """runner(i) = (i, how many objects were alive when the runner was built and how many the
+    collector holds frozen)."""
+    return functools.partial(_collector, [len(gc.get_objects())])
 
 
 class SetupError(Exception):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import gc
 import os
 import subprocess
 import sys
@@ -13,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from tests import backend_tasks as tasks
-from vlb_gym.verify.backends import BACKENDS, run_indices
+from vlb_gym.verify.backends import BACKENDS, gc_paused, run_indices
 
 ROOT = Path(__file__).resolve().parent.parent
 SQUARES = [(i, i * i) for i in range(200)]
@@ -70,6 +71,25 @@ def test_process_workers_compute_on_one_thread_each():
     results = dict(run_indices(tasks.thread_pools, range(4), backend="process", workers=2))
     assert all(r == {"OMP_NUM_THREADS": "1", "torch": "1"} for r in results.values()), results
     assert "OMP_NUM_THREADS" not in os.environ  # the parent's own pools are left alone
+
+
+def test_process_workers_freeze_what_setup_left_alive():
+    """Collections in a worker walk only what its episodes allocate (the parent is untouched)."""
+    results = dict(run_indices(tasks.collector_state, range(4), backend="process", workers=2))
+    assert all(r["frozen"] > 0.9 * r["built"] > 1000 for r in results.values()), results
+    assert gc.get_freeze_count() == 0
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_gc_paused_restores_the_collector(enabled):
+    (gc.enable if enabled else gc.disable)()
+    try:
+        with pytest.raises(KeyError), gc_paused():
+            assert not gc.isenabled()
+            raise KeyError("unpickling failed")
+        assert gc.isenabled() is enabled
+    finally:
+        gc.enable()
 
 
 def test_process_setup_failure_is_raised_as_itself():
@@ -222,6 +242,12 @@ def mark_ray(function):
 def test_ray_each_index_once(ray_instance, workers):
     assert sorted(run_indices(tasks.squares, range(200), backend="ray", workers=workers)) == (
         SQUARES)
+
+
+@mark_ray
+def test_ray_actors_freeze_what_setup_left_alive(ray_instance):
+    results = dict(run_indices(tasks.collector_state, range(4), backend="ray", workers=2))
+    assert all(r["frozen"] > 0.9 * r["built"] > 1000 for r in results.values()), results
 
 
 @mark_ray
