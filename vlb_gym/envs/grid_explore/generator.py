@@ -52,6 +52,8 @@ def sample_state(rng: np.random.Generator, size: int, n_obstacles: int, n_goals:
         truth = truth.reshape(size, size)
         position = rng.uniform(-half, half, size=2)
         cell = cell_of(position, size)
+        if truth[cell] != EMPTY:  # is_allowable's first test, before the costlier labelling
+            continue
         component = free_components(truth)
         if is_allowable(truth, component, cell):
             labels = np.full((size, size), UNEXPLORED, dtype=np.int8)

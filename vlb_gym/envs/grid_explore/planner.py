@@ -144,7 +144,10 @@ def first_collision(trajectory: np.ndarray, blocked: np.ndarray) -> int:
 
 def padded_blocked(passable: np.ndarray) -> np.ndarray:
     """The obstacle mask with a one-cell blocked border (the grid's edge)."""
-    return np.pad(~passable, 1, constant_values=True)
+    rows, cols = passable.shape
+    blocked = np.ones((rows + 2, cols + 2), dtype=bool)  # np.pad: 5x the time, once per reset
+    np.logical_not(passable, out=blocked[1:-1, 1:-1])
+    return blocked
 
 
 def track(start: np.ndarray, ref: np.ndarray, noise: np.ndarray | None) -> np.ndarray:
