@@ -229,13 +229,17 @@ class _Worker:
         self.started = False
         self.chunks: collections.deque[list[int]] = collections.deque()
 
+    def finish(self) -> None:
+        """Ask the worker to exit once its queue is done (it may be gone already)."""
+        try:
+            self.conn.send(None)
+        except OSError:
+            pass
+
     def stop(self, wait: float) -> None:
-        """Ask the worker to finish (wait > 0) or terminate it now; reap it either way."""
-        if wait > 0 and self.process.is_alive():
-            try:
-                self.conn.send(None)
-            except OSError:
-                pass
+        """Wait up to ``wait`` seconds for a worker asked to :meth:`finish`, or terminate it
+        now (``wait`` 0); reap it either way."""
+        if wait > 0:
             self.process.join(wait)
         if self.process.is_alive():
             self.process.terminate()
@@ -349,6 +353,9 @@ def _process(setup: Callable[[], Callable[[int], T]], indices: list[int], worker
                     died(worker)
         finished = True
     finally:
+        if finished:  # all at once: each exit takes milliseconds (a big heap to unmap)
+            for worker in pool:
+                worker.finish()
         for worker in pool:
             worker.stop(5 if finished else 0)
         for name in os.listdir(folder):
