@@ -67,6 +67,33 @@ print(ENV_IDS, __version__)
     python('import gymnasium as gym; gym.make("vlb_gym:VLB-GridExplore-v0").close()')
 
 
+def test_a_grid_campaign_leaves_the_slow_scipy_modules_alone():
+    """scipy.signal (0.4 s: it brings scipy.stats) is imported only where used: the plain
+    navigate and the bounds of a campaign with failures."""
+    pytest.importorskip("numba")  # without it, the plain navigate needs scipy.signal
+    code = """
+import sys
+from vlb_gym.verify.campaign import CampaignConfig, run_campaign
+report = run_campaign(CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 20))
+assert report["successes"] == 20, report["successes"]
+print(*sorted(m for m in ("scipy.signal", "scipy.stats") if m in sys.modules))
+"""
+    assert python(code).split() == []
+
+
+def test_plan_imports_the_bounds_alone():
+    code = """
+import contextlib, io, sys
+from vlb_gym.cli import main
+with contextlib.redirect_stdout(io.StringIO()) as out:
+    main(["plan", "--epsilon", "0.05", "--confidence", "0.95"])
+assert "59" in out.getvalue(), out.getvalue()
+print(*[m for m in ("networkx", "pydantic", "scipy.special", "vlb_gym.verify.campaign")
+        if m in sys.modules])
+"""
+    assert python(code).split() == []
+
+
 def actions(p: argparse.ArgumentParser) -> Iterator[tuple[argparse.ArgumentParser,
                                                           argparse.Action]]:
     """Every argument of ``p`` and of its subcommands, recursively."""

@@ -62,8 +62,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
-from scipy.special import betaln
-
 from . import bounds
 
 PRIOR_STRENGTH = 10.0
@@ -88,6 +86,9 @@ def default_max_episodes(epsilon: float, delta: float) -> int:
 
 def log_mixture(successes: int, failures: int, p: float, a: float, b: float) -> float:
     """``log M_n(p)``: the log of the beta-binomial mixture likelihood ratio against ``p``."""
+    from scipy.special import betaln  # here: scipy.special takes 0.1 s to import, and
+    # fixed-N campaigns (whose workers and CLI import this module) never call it
+
     s, f = successes, failures
     value = betaln(a + s, b + f) - betaln(a, b)
     if s:
@@ -212,6 +213,7 @@ def simulate(p: float, epsilon: float, delta: float, runs: int, max_episodes: in
     and the number of episodes each run used. The same decision rule as :class:`SequentialTest`.
     """
     import numpy as np
+    from scipy.special import betaln
 
     a, b = prior(epsilon)
     p0, threshold = 1.0 - epsilon, -math.log(delta)

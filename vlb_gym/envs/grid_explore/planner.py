@@ -22,7 +22,6 @@ from collections import deque
 from functools import lru_cache
 
 import numpy as np
-from scipy.signal import lfilter
 
 DT = 0.05  # s per integration step
 SPEED = 2.0  # cells per second along the plan
@@ -161,4 +160,6 @@ def track(start: np.ndarray, ref: np.ndarray, noise: np.ndarray | None) -> np.nd
         drive += noise
     # transposed direct form II state for p_0 = p_{-1} = start (at rest)
     zi = np.array([(A1 + A2) * start, A2 * start])
+    from scipy.signal import lfilter  # here: scipy.signal takes 0.4 s to import (it brings
+    # scipy.stats), and with the extra `fast` the compiled rollout replaces this function
     return lfilter(_NUM, _DEN, drive, axis=0, zi=zi)[0]
