@@ -68,8 +68,8 @@ print(ENV_IDS, __version__)
 
 
 def test_a_grid_campaign_leaves_the_slow_scipy_modules_alone():
-    """scipy.signal (0.4 s: it brings scipy.stats) is imported only where used: the plain
-    navigate and the bounds of a campaign with failures."""
+    """scipy.signal (0.4 s: it brings scipy.stats) is imported by the plain navigate alone,
+    scipy.stats by the bounds of a campaign with failures alone."""
     pytest.importorskip("numba")  # without it, the plain navigate needs scipy.signal
     code = """
 import sys
@@ -79,6 +79,26 @@ assert report["successes"] == 20, report["successes"]
 print(*sorted(m for m in ("scipy.signal", "scipy.stats") if m in sys.modules))
 """
     assert python(code).split() == []
+
+
+def test_lazy_packages_serve_names_and_submodules():
+    code = """
+import sys
+import vlb_gym.verify as verify
+assert "vlb_gym.verify.campaign" not in sys.modules
+assert verify.min_episodes(0.05, 0.95) == 59 and verify.bounds.min_episodes is verify.min_episodes
+assert verify.campaign.run_campaign is verify.run_campaign  # a submodule, imported on use
+assert set(verify.__all__) <= set(dir(verify))
+for name in ("nothing", "_private"):
+    try:
+        getattr(verify, name)
+    except AttributeError as exc:
+        assert name in str(exc)
+    else:
+        raise AssertionError(name)
+print("ok")
+"""
+    assert python(code).split() == ["ok"]
 
 
 def test_plan_imports_the_bounds_alone():
