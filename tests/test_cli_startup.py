@@ -81,6 +81,22 @@ print(*sorted(m for m in ("scipy.signal", "scipy.stats") if m in sys.modules))
     assert python(code).split() == []
 
 
+def test_a_campaign_imports_the_envs_preload_before_its_clock_starts():
+    """The grid's compiled controller (0.3 s) is imported when the campaign is prepared, so that
+    an in-process campaign's time and episodes/s are its episodes' own."""
+    pytest.importorskip("numba")
+    code = """
+import sys
+from vlb_gym.verify.campaign import Campaign, CampaignConfig
+module = "vlb_gym.envs.grid_explore.compiled"
+assert module not in sys.modules
+with Campaign(CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 1)) as campaign:
+    assert campaign.env.unwrapped.preload == (module,)
+    print(module in sys.modules)
+"""
+    assert python(code).split() == ["True"]
+
+
 def test_lazy_packages_serve_names_and_submodules():
     code = """
 import sys

@@ -46,7 +46,8 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
     env_id: str = ""
     metadata: dict[str, Any] = {"render_modes": [], "render_fps": 4}
     #: Modules a campaign imports once, before it starts its worker processes (which inherit
-    #: them), rather than in every worker: slow imports the env makes on first use.
+    #: them), rather than in every worker, and before its clock starts when it runs in process:
+    #: slow imports the env makes on first use.
     preload: tuple[str, ...] = ()
 
     def __init__(self, primitives: Sequence[MotionPrimitive[State]], observation_space: gym.Space,

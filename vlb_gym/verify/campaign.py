@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import importlib
 import json
 import platform
 import time
@@ -118,6 +119,8 @@ class Campaign:
             config = dataclasses.replace(config, env_kwargs={**kwargs, **config.env_kwargs})
         self.config = config
         self.env, self.policy = build(config)
+        for module in self.env.unwrapped.preload:  # here, not in the first episode's time
+            importlib.import_module(module)
         self.files = loader.files(config.policy, self.policy)  # the user's inputs
         content = loader.content(config.policy, self.policy)
         plan = {**dataclasses.asdict(config), "content_sha256": content.pop("sha256"),
