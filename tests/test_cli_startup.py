@@ -81,20 +81,60 @@ print(*sorted(m for m in ("scipy.signal", "scipy.stats") if m in sys.modules))
     assert python(code).split() == []
 
 
-def test_a_campaign_imports_the_envs_preload_before_its_clock_starts():
-    """The grid's compiled controller (0.3 s) is imported when the campaign is prepared, so that
-    an in-process campaign's time and episodes/s are its episodes' own."""
+def test_a_campaign_imports_the_envs_preload_where_its_episodes_run():
+    """The grid's compiled controller (0.3 s to import) is imported in this process only for an
+    in-process campaign, and before its clock starts (its time and episodes/s are the
+    episodes' own); a campaign on workers leaves it to them (their forkserver imports it)."""
     pytest.importorskip("numba")
     code = """
-import sys
-from vlb_gym.verify.campaign import Campaign, CampaignConfig
+import sys, time
+from vlb_gym.verify import campaign
 module = "vlb_gym.envs.grid_explore.compiled"
-assert module not in sys.modules
-with Campaign(CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 1)) as campaign:
-    assert campaign.env.unwrapped.preload == (module,)
-    print(module in sys.modules)
+seen = []
+
+class Clock:  # campaign.time, recording whether the module was there when the clock started
+    @staticmethod
+    def perf_counter():
+        seen.append(module in sys.modules)
+        return time.perf_counter()
+
+campaign.time = Clock
+config = campaign.CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 4)
+with campaign.Campaign(config) as prepared:
+    assert prepared.env.unwrapped.preload == (module,)
+    assert prepared.run(workers=2)["successes"] == 4
+    print(module in sys.modules, seen[0])
+    seen.clear()
+    assert prepared.run(workers=1)["successes"] == 4
+    print(module in sys.modules, seen[0])
 """
-    assert python(code).split() == ["True"]
+    assert python(code).split() == ["False", "False", "True", "True"]
+
+
+def test_verify_with_workers_starts_the_forkserver_first(tmp_path):
+    """``vlb verify --workers 2`` starts the forkserver before its own imports (they run side by
+    side), and the campaign's records are those of one worker."""
+    code = f"""
+import json, sys
+from multiprocessing import forkserver
+from vlb_gym.cli import main
+from vlb_gym.verify import backends
+started = []
+real = backends.start_forkserver
+backends.start_forkserver = lambda preload: (started.append(
+    ("vlb_gym.verify.campaign" in sys.modules, list(preload))), real(preload))
+for workers in ("2", "1"):  # the first run imports the campaign modules
+    assert main(["verify", "VLB-GridExplore-v0", "--behavior", "find_goal_and_oscillate",
+                 "--episodes", "12", "--epsilon", "0.05", "--workers", workers, "--quiet",
+                 "--episodes-out", r"{tmp_path}/" + workers + ".jsonl"]) == 0
+print(json.dumps(started))
+"""
+    assert json.loads(python(code).splitlines()[-1]) == [[False, ["vlb_gym.verify.campaign"]]]
+    one, two = ([json.loads(line) for line in (tmp_path / f"{n}.jsonl").read_text().splitlines()]
+                for n in (1, 2))
+    strip = lambda records: sorted((r["index"], r["rho"], r["seed"], r["steps"])  # noqa: E731
+                                   for r in records if "index" in r)
+    assert strip(one) == strip(two) and len(strip(one)) == 12
 
 
 def test_lazy_packages_serve_names_and_submodules():

@@ -68,15 +68,21 @@ def _open_store(path: Path, campaign):
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
-    from vlb_gym.verify.campaign import Campaign, CampaignConfig
-    from vlb_gym.verify.export import EpisodesExport
-
     _check_verify_args(args)
     if args.sequential:
         from vlb_gym.verify.sequential import default_max_episodes
         episodes = args.max_episodes or default_max_episodes(args.epsilon, args.delta)
     else:
         episodes = args.episodes
+    workers = clamp_workers(args.workers, episodes, "verify") if args.backend != "ray" else \
+        args.workers
+    if args.backend == "process" and workers > 1:  # its imports beside ours (see there)
+        from vlb_gym.verify.backends import start_forkserver
+        start_forkserver(["vlb_gym.verify.campaign"])
+
+    from vlb_gym.verify.campaign import Campaign, CampaignConfig
+    from vlb_gym.verify.export import EpisodesExport
+
     config = CampaignConfig(args.env_id, _policy_ref(args), episodes, args.epsilon, args.delta,
                             args.seed, env_kwargs(args.env_kwarg),
                             stop_on_failure=not args.keep_going,
@@ -97,8 +103,6 @@ def cmd_verify(args: argparse.Namespace) -> int:
     if args.store:  # an existing store is resumed: its plan must be this command's
         store = _open_store(check_output(args.store, [*campaign.files, report_out, export], True,
                                          "--store"), campaign)
-    workers = clamp_workers(args.workers, episodes, "verify") if args.backend != "ray" else \
-        args.workers
     stream = EpisodesExport(export, campaign.plan, args.force) if export else None
     bar = None
     if not args.quiet and sys.stderr.isatty():

@@ -119,8 +119,6 @@ class Campaign:
             config = dataclasses.replace(config, env_kwargs={**kwargs, **config.env_kwargs})
         self.config = config
         self.env, self.policy = build(config)
-        for module in self.env.unwrapped.preload:  # here, not in the first episode's time
-            importlib.import_module(module)
         self.files = loader.files(config.policy, self.policy)  # the user's inputs
         content = loader.content(config.policy, self.policy)
         plan = {**dataclasses.asdict(config), "content_sha256": content.pop("sha256"),
@@ -147,7 +145,7 @@ class Campaign:
         if not isinstance(workers, int) or workers < 1:
             raise ValueError(f"workers must be a positive integer (got {workers!r})")
         indices = range(self.config.episodes) if indices is None else indices
-        if backend == "serial" or (backend == "process" and workers == 1):
+        if _in_process(workers, backend):
             setup = functools.partial(episode_runner, self.config, (self.env, self.policy))
             return backends.run_indices(setup, indices, backend="serial")
         return backends.run_indices(functools.partial(episode_runner, self.config), indices,
@@ -174,6 +172,9 @@ class Campaign:
         saw), the episodes already stored are not run again, and the report is built from the
         store.
         """
+        if _in_process(workers, backend):  # the env's slow imports, before the clock starts
+            for module in self.env.unwrapped.preload:  # (workers get them from the forkserver)
+                importlib.import_module(module)
         started = time.perf_counter()
         stored: list[EpisodeResult] = []
         if store is not None:
@@ -225,6 +226,11 @@ class Campaign:
         finally:
             stream.close()  # stops the workers when the test stopped early
         return used, test
+
+
+def _in_process(workers: int, backend: str) -> bool:
+    """Whether a campaign's episodes run in this process."""
+    return backend == "serial" or (backend == "process" and workers == 1)
 
 
 def run_campaign(config: CampaignConfig, workers: int = 1,
