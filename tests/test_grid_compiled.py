@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from vlb_gym.envs import grid_explore
 from vlb_gym.envs.grid_explore import planner, primitives
-from vlb_gym.verify.campaign import Campaign, CampaignConfig
+from vlb_gym.verify.campaign import Campaign, CampaignConfig, run_campaign
 
 compiled = pytest.importorskip("vlb_gym.envs.grid_explore.compiled")
 
@@ -129,5 +129,8 @@ def test_without_numba_navigate_uses_the_plain_controller(monkeypatch):
         env.reset(seed=0)
         here = env.unwrapped.state.cell
         assert env.step(np.array([1, *here]))[4]["certificate"]  # navigate to the centre
+        # a campaign in process imports the env's preload first: without Numba, it goes on
+        report = run_campaign(CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 3))
+        assert report["successes"] == 3
     finally:
         primitives.controller.cache_clear()  # the next call imports the compiled one again

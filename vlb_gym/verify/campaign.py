@@ -173,8 +173,7 @@ class Campaign:
         store.
         """
         if _in_process(workers, backend):  # the env's slow imports, before the clock starts
-            for module in self.env.unwrapped.preload:  # (workers get them from the forkserver)
-                importlib.import_module(module)
+            preload(self.env.unwrapped.preload)  # (workers get them from the forkserver)
         started = time.perf_counter()
         stored: list[EpisodeResult] = []
         if store is not None:
@@ -226,6 +225,16 @@ class Campaign:
         finally:
             stream.close()  # stops the workers when the test stopped early
         return used, test
+
+
+def preload(modules: Sequence[str]) -> None:
+    """Import ``modules``, skipping any that cannot be imported, as the forkserver does: they are
+    a speed-up the env does without (the grid's compiled navigate needs the extra ``fast``)."""
+    for module in modules:
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            pass
 
 
 def _in_process(workers: int, backend: str) -> bool:
