@@ -219,7 +219,7 @@ def test_grid_too_crowded_to_sample_is_a_value_error():
     ({"solver_tolerance": "nan"}, TypeError, "solver_tolerance must be a number"),
 ])
 def test_scoop_constructor_checks_its_arguments(kwargs, error, message):
-    pytest.importorskip("mujoco")
+    pytest.importorskip("vlb_gym.envs.scoop.gl")  # MuJoCo, its headless backend chosen first
     from vlb_gym.envs.scoop import ScoopEnv
 
     with pytest.raises(error, match=message):
