@@ -129,6 +129,7 @@ def test_without_numba_navigate_uses_the_plain_controller(monkeypatch):
         env.reset(seed=0)
         here = env.unwrapped.state.cell
         assert env.step(np.array([1, *here]))[4]["certificate"]  # navigate to the centre
+        assert env.unwrapped.preload == ("scipy.signal",)  # what the plain navigate imports
         # a campaign in process imports the env's preload first: without Numba, it goes on
         report = run_campaign(CampaignConfig("VLB-GridExplore-v0", "find_goal_and_oscillate", 3))
         assert report["successes"] == 3

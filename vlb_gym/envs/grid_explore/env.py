@@ -14,7 +14,7 @@ from vlb_gym.envs import arguments
 
 from .generator import check_fits, sample_state
 from .helpers import GridHelpers
-from .primitives import Navigate, Sense
+from .primitives import Navigate, Sense, controller_modules
 from .types import GridState, Label
 from .viewer import render_rgb
 
@@ -88,7 +88,10 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
     env_id = "VLB-GridExplore-v0"
-    preload = ("vlb_gym.envs.grid_explore.compiled",)  # Numba and the compiled navigate
+    @property
+    def preload(self) -> tuple[str, ...]:  # type: ignore[override]
+        """Numba and the compiled navigate (extra ``fast``), else scipy.signal."""
+        return controller_modules()
 
     def __init__(self, render_mode: str | None = None, size: int = 10, n_obstacles: int = 30,
                  n_goals: int = 3, action_noise: float = 0.0):

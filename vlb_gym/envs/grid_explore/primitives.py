@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 from dataclasses import dataclass
 from functools import lru_cache
 from types import ModuleType
@@ -36,6 +37,15 @@ def controller() -> ModuleType:
     except ImportError:
         return planner
     return compiled
+
+
+def controller_modules() -> tuple[str, ...]:
+    """What :func:`controller` imports on first use, without importing it: the compiled module
+    (and Numba) where Numba is installed, else scipy.signal for the plain one (what campaigns
+    import before their clock starts)."""
+    if importlib.util.find_spec("numba") is not None:
+        return (f"{__package__}.compiled",)
+    return ("scipy.signal",)
 
 
 def cost_to_go(state: GridState, target: Cell) -> np.ndarray:
