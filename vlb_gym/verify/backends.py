@@ -249,10 +249,8 @@ class _Worker:
 
     def finish(self) -> None:
         """Ask the worker to exit once its queue is done (it may be gone already)."""
-        try:
+        with contextlib.suppress(OSError):
             self.conn.send(None)
-        except OSError:
-            pass
 
     def stop(self, wait: float) -> None:
         """Wait up to ``wait`` seconds for a worker asked to :meth:`finish`, or terminate it

@@ -13,6 +13,7 @@ not depend on the backend, the number of workers or the order in which episodes 
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import importlib
@@ -231,10 +232,8 @@ def preload(modules: Sequence[str]) -> None:
     """Import ``modules``, skipping any that cannot be imported, as the forkserver does: they are
     a speed-up the env does without (the grid's compiled navigate needs the extra ``fast``)."""
     for module in modules:
-        try:
+        with contextlib.suppress(ImportError):
             importlib.import_module(module)
-        except ImportError:
-            pass
 
 
 def _in_process(workers: int, backend: str) -> bool:
