@@ -336,6 +336,41 @@ def test_workers_are_clamped_with_a_note(cpus, workers, episodes, expected, reas
     assert json.loads(report.read_text())["workers"] == expected
 
 
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("kind", ["truncated JSON", "fifo", "device"])
+def test_a_bad_behavior_with_workers_is_one_line_and_leaves_no_process(kind, tmp_path):
+    """``--workers 2`` starts the forkserver before the behavior is read: a file that fails
+    (malformed, a FIFO that would block a reader, an endless device) still ends in one error
+    line, at once, and the forkserver goes with the command."""
+    path = {"truncated JSON": tmp_path / "bad.json", "fifo": tmp_path / "fifo.json",
+            "device": Path("/dev/zero")}[kind]
+    if kind == "truncated JSON":
+        path.write_text('{"name": [')
+    elif kind == "fifo":
+        os.mkfifo(path)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "vlb_gym.cli", "verify", GRID, "--behavior", str(path),
+         "--episodes", "100", "--epsilon", "0.05", "--workers", "2"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        _, err = proc.communicate(timeout=50)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert proc.returncode == 2, err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert err.startswith(f"vlb verify: error: {path}"), err
+    deadline = time.monotonic() + 10  # its session: the command and the forkserver it started
+    while time.monotonic() < deadline:
+        try:
+            os.killpg(proc.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail("a process of the command outlived it by 10 s")
+
+
 # --------------------------------------------------------------------------- 6. min_episodes
 
 
