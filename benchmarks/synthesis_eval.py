@@ -1,30 +1,41 @@
-"""Certified synthesis: how often does a language model's behavior verify, and do the task?
+"""Certified synthesis, intent first: does a language model's promise certify, and is it the task?
 
     python benchmarks/synthesis_eval.py --model-path qwen2.5-coder-1.5b-instruct-q4_k_m.gguf \
-        [--model-path another.gguf] [--samples 1] [--tasks NAME ...] [--episodes 100] \
+        [--model-path another.gguf] [--samples 1] [--tasks FILE.py] [--only NAME ...] \
         [--out benchmarks/results/synthesis]
-    python benchmarks/synthesis_eval.py --replay benchmarks/results/synthesis
+    python benchmarks/synthesis_eval.py --tasks FILE.py --list
+    python benchmarks/synthesis_eval.py --replay benchmarks/results/synthesis [--out DIR]
 
-For every model, task (:mod:`benchmarks.synthesis_tasks`) and sample, Algorithm 1 runs with the
-local backend (grammar-constrained decoding, up to ``--max-rounds`` replies); a valid behavior is
-then run for ``--episodes`` episodes (campaign seed 0) and counted twice: *verified* (rho_B = +1,
-the certificates) and *done* (verified and the task's own check, from the ground truth). A task
-is **certified** for a sample when all N episodes are done: P[success] >= 1 - eps with confidence
-1 - (1 - eps)^N (99.4% for N = 100, eps = 0.05). Sample 0 decodes greedily, sample s > 0 at
-temperature 0.7 with seed s.
+For every model, task and sample, the pipeline of :mod:`vlb_gym.abstractor.certified` runs with
+the local backend (the model writes the promise, accepted as ``--yes`` would; a search finds a
+behavior that keeps it and certifies it on fresh seeds). Each certified behavior is then run
+again on its certification episodes by :func:`benchmarks.synthesis_tasks.evaluate`, which also
+applies the task's own check (from the ground truth). Columns:
 
-Every transcript and valid behavior is written under ``--out/<model>/``, with ``results.csv``
-(one row per sample) and ``results.md`` (per model: validity rate, mean rounds, certified rate,
-tokens, seconds; then per task). ``--replay DIR`` re-runs the saved transcripts without a model
-(:class:`~vlb_gym.abstractor.backends.TranscriptBackend`): each must reach the same outcome
-round by round, and the tables are rebuilt from the replay (tokens and seconds are the live
-run's, from the transcripts).
+* *promise*: the model wrote a promise that checks;
+* *certified*: the promise was certified, P >= 0.95 with confidence >= 0.99 on fresh seeds (the
+  search's union bound over its certification attempts, :mod:`vlb_gym.abstractor.search`);
+* *done*: certified, and the task's check passed on every certification episode;
+* *faithful*: on every episode where the promise was judged, its verdict equals the check's (a
+  wrong promise shows here, never hidden).
+
+Tasks are ``benchmarks.synthesis_tasks.TASKS`` (a development set: the pipeline's prompts,
+worked examples and search space were written while looking at them) or ``--tasks FILE.py``, a
+file defining ``TASKS``, a list of ``Task(name, description, difficulty, library, reference,
+check)`` with ``check(state, result) -> str | None`` (import them from
+``benchmarks.synthesis_tasks``); its results must be written outside the repository.
+
+Transcripts, certified behaviors, ``results.csv`` and ``results.md`` go to ``--out/<model>/``
+and ``--out``. ``--replay DIR`` re-runs the saved transcripts without a model: each must reach
+the same promises and behaviors; its tables go to ``--out`` (default: a temporary directory,
+never the committed files).
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import importlib.util
 import json
 import platform
 import statistics
@@ -34,14 +45,13 @@ import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+REPOSITORY = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPOSITORY))
 
 from benchmarks.synthesis_tasks import ENV_ID, TASKS, Task, evaluate  # noqa: E402
 from vlb_gym.abstractor.backends import ChatBackend, TranscriptBackend  # noqa: E402
-from vlb_gym.abstractor.synthesize import (SynthesisError, save_transcript,  # noqa: E402
-                                           synthesize)
+from vlb_gym.abstractor.certified import synthesize_certified  # noqa: E402
 from vlb_gym.core.files import write_atomic  # noqa: E402
-from vlb_gym.core.library import BehaviorLibrary, spec_json  # noqa: E402
 
 SAMPLE_TEMPERATURE = 0.7
 
@@ -54,62 +64,55 @@ class Sample:
     task: str
     difficulty: int
     sample: int
-    valid: bool
-    rounds: int
-    layers: str  # the failing layer of each round, "ok" for the valid one
-    prompt_tokens: int
-    reply_tokens: int
+    promise: str
+    promises: int  # promises written (drafts that checked)
+    requests: int  # model requests
+    certified: bool
+    candidate: str
+    episodes: int
+    verified: int
+    done: int
+    judged: int
+    faithful: int
     seconds: float
-    episodes: int = 0
-    verified: int = 0
-    done: int = 0
-    confidence: float = 0.0
     failure: str = ""
 
     @property
-    def certified(self) -> bool:
-        return self.valid and self.episodes > 0 and self.done == self.episodes
+    def task_done(self) -> bool:
+        return self.certified and self.done == self.episodes
+
+    @property
+    def is_faithful(self) -> bool:
+        return self.certified and self.faithful == self.judged
 
 
-def cost(rounds: list[dict]) -> tuple[int, int, float]:
-    """Prompt tokens, reply tokens and decoding seconds of a transcript's rounds, every draw of
-    every round (a round's ``usage`` is a list of draws: a reply that repeated a rejected one
-    was drawn again)."""
-    draws = [draw for r in rounds for draw in r.get("usage") or []]
-    return (sum(d.get("prompt_tokens") or 0 for d in draws),
-            sum(d.get("reply_tokens") or 0 for d in draws),
-            round(sum(d.get("seconds") or 0 for d in draws), 1))
-
-
-def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: Path,
-            episodes: int, max_rounds: int) -> Sample:
-    """Synthesize ``task`` once with ``backend``, save the transcript (and the behavior), and
-    verify a valid result."""
+def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: Path) -> Sample:
+    """Run the pipeline for ``task`` once, save its transcript (and behavior), and check a
+    certified behavior against the task on its certification episodes."""
     stem = folder / f"{task.name}-{sample}"
-    with tempfile.TemporaryDirectory() as user_dir:
-        library = BehaviorLibrary(Path(user_dir), shipped=task.library)
-        started = time.perf_counter()
-        try:
-            result = synthesize(ENV_ID, task.description, backend, library, max_rounds=max_rounds)
-            transcript, compiled = result.transcript, result.compiled
-        except SynthesisError as exc:
-            transcript, compiled = exc.transcript, None
-        seconds = time.perf_counter() - started
-    transcript["task"] = task.name
-    save_transcript(transcript, stem.with_suffix(".transcript.json"))
-    rounds = transcript["rounds"]
-    record = Sample(model, task.name, task.difficulty, sample, compiled is not None, len(rounds),
-                    " ".join(r["layer"] or "ok" for r in rounds), *cost(rounds))
-    record.seconds = record.seconds or round(seconds, 1)
-    if compiled is None:
-        record.failure = (rounds[-1]["error"] or "")[:200]
+    started = time.perf_counter()
+    got = synthesize_certified(ENV_ID, task.description, backend, name=task.name)
+    seconds = round(time.perf_counter() - started, 1)
+    got.transcript["task"] = task.name
+    write_atomic(stem.with_suffix(".transcript.json"), json.dumps(got.transcript, indent=2) + "\n")
+    drafts = got.transcript["drafts"]
+    record = Sample(model, task.name, task.difficulty, sample,
+                    got.promise.expr if got.promise else "",
+                    sum(d["promise"] is not None for d in drafts),
+                    sum(len(d["rounds"]) for d in drafts), got.certified, "", 0, 0, 0, 0, 0,
+                    seconds)
+    if not got.certified:
+        record.failure = json.dumps(got.transcript["certifications"]
+                                    or got.transcript["finds"][:1])[:200]
         return record
     path = stem.with_suffix(".json")
-    write_atomic(path, spec_json(compiled.spec))
-    outcome = evaluate(task, path, episodes)
+    write_atomic(path, json.dumps(got.document, indent=2) + "\n")
+    certification = got.search.certification
+    outcome = evaluate(task, path, len(certification.episodes), certification.seed)
+    record.candidate = got.search.candidate.label
     record.episodes, record.verified, record.done = outcome.episodes, outcome.verified, \
         outcome.task_done
-    record.confidence = round(outcome.confidence, 4)
+    record.judged, record.faithful = outcome.judged, outcome.faithful
     record.failure = "; ".join(f"episode {i}: {why}" for i, why in outcome.failures[:1])[:200]
     return record
 
@@ -127,93 +130,153 @@ def run_models(args: argparse.Namespace, tasks: list[Task]) -> list[Sample]:
             for sample in range(args.samples):
                 backend.temperature = 0.0 if sample == 0 else SAMPLE_TEMPERATURE
                 backend.seed = sample
-                record = attempt(task, backend, model, sample, folder, args.episodes,
-                                 args.max_rounds)
+                record = attempt(task, backend, model, sample, folder)
                 samples.append(record)
-                print(f"{model} {task.name} #{sample}: {'valid' if record.valid else 'invalid'} "
-                      f"after {record.rounds} round(s) [{record.layers}], {record.reply_tokens} "
-                      f"tokens, {record.seconds:.0f} s; done {record.done}/{record.episodes}",
-                      flush=True)
+                print(f"{model} {task.name} #{sample}: promise {record.promise!r}; "
+                      f"{'certified by ' + record.candidate if record.certified else 'not certified'}"
+                      f"; done {record.done}/{record.episodes}, faithful {record.faithful}/"
+                      f"{record.judged}; {record.seconds:.0f} s", flush=True)
     return samples
 
 
-def replay(folder: Path, tasks: list[Task], episodes: int) -> list[Sample]:
+def replay(folder: Path, tasks: list[Task]) -> list[Sample]:
     """Re-run every saved transcript with its own replies; each must end as it did."""
     by_name = {task.name: task for task in tasks}
     samples, mismatches = [], []
     for path in sorted(folder.glob("*/*.transcript.json")):
         saved = json.loads(path.read_text())
         task = by_name.get(saved.get("task"))
-        if task is None:
+        if task is None or "drafts" not in saved:
             continue
         sample = int(path.name.removesuffix(".transcript.json").rsplit("-", 1)[1])
         with tempfile.TemporaryDirectory() as scratch:
             record = attempt(task, TranscriptBackend.from_file(path), path.parent.name, sample,
-                             Path(scratch), episodes, len(saved["rounds"]))
+                             Path(scratch))
             again = json.loads((Path(scratch) / path.name).read_text())
-        if [r["error"] for r in again["rounds"]] != [r["error"] for r in saved["rounds"]]:
+        if _outcomes(again) != _outcomes(saved):
             mismatches.append(path)
-        record.prompt_tokens, record.reply_tokens, record.seconds = cost(saved["rounds"])
+        record.seconds = saved.get("seconds", record.seconds)
         samples.append(record)
     if mismatches:
         sys.exit("replay differs from the live run: " + ", ".join(map(str, mismatches)))
     return samples
 
 
-def tables(samples: list[Sample], episodes: int) -> str:
+def _outcomes(transcript: dict) -> list:
+    """What a replay must reproduce: the promises, the behaviors found, the consensus and the
+    certifications."""
+    return [[d["promise"] for d in transcript["drafts"]],
+            [(f["promise"], f["candidate"]) for f in transcript["finds"]],
+            transcript["consensus"], transcript["certifications"]]
+
+
+def tables(samples: list[Sample]) -> str:
     """The Markdown summary: per model, then per task."""
-    lines = [f"Certified: all {episodes} episodes verified (rho_B = +1) and doing the task, "
-             f"i.e. P[success] >= 0.95 at confidence {1 - 0.95 ** episodes:.1%}.", "",
-             "| model | samples | valid | mean rounds | verified N/N | certified | "
-             "mean reply tokens | mean s/sample |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = ["Certified: the promise held on every one of N fresh-seed episodes, N chosen so that "
+             "P[success] >= 0.95 holds with confidence >= 0.99 over the search's certification "
+             "attempts. Done: certified, and the task's ground-truth check passed on all N. "
+             "Faithful: the promise's verdict equals the check's on every judged episode.", "",
+             "| model | samples | promise | certified | **done** | faithful | "
+             "median s/task | max s/task |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
     models = sorted({s.model for s in samples})
     for model in models:
         mine = [s for s in samples if s.model == model]
+        n = len(mine)
         lines.append(
-            f"| {model} | {len(mine)} | {sum(s.valid for s in mine) / len(mine):.0%} | "
-            f"{statistics.mean(s.rounds for s in mine):.2f} | "
-            f"{sum(s.valid and s.verified == s.episodes for s in mine) / len(mine):.0%} | "
-            f"**{sum(s.certified for s in mine) / len(mine):.0%}** | "
-            f"{statistics.mean(s.reply_tokens for s in mine):.0f} | "
-            f"{statistics.mean(s.seconds for s in mine):.0f} |")
+            f"| {model} | {n} | {sum(bool(s.promise) for s in mine)}/{n} | "
+            f"{sum(s.certified for s in mine)}/{n} | **{sum(s.task_done for s in mine)}/{n}** | "
+            f"{sum(s.is_faithful for s in mine)}/{sum(s.certified for s in mine)} | "
+            f"{statistics.median(s.seconds for s in mine):.0f} | "
+            f"{max(s.seconds for s in mine):.0f} |")
     lines += ["", "| task | difficulty | " + " | ".join(models) + " |",
               "|---|---:|" + "---|" * len(models)]
     for task in dict.fromkeys(s.task for s in samples):
         row = []
         for model in models:
             mine = [s for s in samples if s.model == model and s.task == task]
-            row.append(", ".join(
-                (f"done {s.done}/{s.episodes}" + (" ✔" if s.certified else "")) if s.valid
-                else f"invalid ({s.layers})" for s in mine) or "-")
+            row.append("<br>".join(_cell(s) for s in mine) or "-")
         difficulty = next(s.difficulty for s in samples if s.task == task)
         lines.append(f"| {task} | {difficulty} | " + " | ".join(row) + " |")
     return "\n".join(lines) + "\n"
 
 
-def main() -> None:
+def _cell(s: Sample) -> str:
+    promise = f"`{s.promise}`" if s.promise else "no promise"
+    if not s.certified:
+        return f"{promise}: not certified ({s.seconds:.0f} s)"
+    verdict = "done ✔" if s.task_done else f"done {s.done}/{s.episodes}"
+    faithful = "faithful" if s.is_faithful else f"faithful {s.faithful}/{s.judged}"
+    return f"{promise}: certified ({s.candidate}), {verdict}, {faithful} ({s.seconds:.0f} s)"
+
+
+def load_tasks(path: Path) -> list[Task]:
+    """``TASKS`` of the Python file ``path``; SystemExit (one line) if it has none."""
+    if not path.is_file():
+        sys.exit(f"--tasks {path}: no such file")
+    spec = importlib.util.spec_from_file_location(f"_external_tasks_{path.stem}", path)
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:  # the user's file: its error in one line
+        sys.exit(f"--tasks {path}: {type(exc).__name__}: {exc}")
+    tasks = getattr(module, "TASKS", None)  # a user's module: what it defines is unknown
+    if not isinstance(tasks, (list, tuple)) or not all(isinstance(t, Task) for t in tasks):
+        sys.exit(f"--tasks {path}: defines no TASKS list of benchmarks.synthesis_tasks.Task")
+    return list(tasks)
+
+
+def select(tasks: list[Task], only: list[str] | None) -> list[Task]:
+    """The tasks named in ``only`` (all without it); SystemExit for an unknown name or an
+    empty selection."""
+    names = [t.name for t in tasks]
+    unknown = [n for n in only or [] if n not in names]
+    if unknown:
+        sys.exit(f"--only: unknown task(s) {', '.join(unknown)} (tasks: {', '.join(names)})")
+    chosen = [t for t in tasks if not only or t.name in only]
+    if not chosen:
+        sys.exit("no task selected")
+    return chosen
+
+
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    source = parser.add_mutually_exclusive_group(required=True)
+    source = parser.add_mutually_exclusive_group()
     source.add_argument("--model-path", action="append", metavar="FILE.gguf")
     source.add_argument("--replay", type=Path, metavar="DIR")
+    parser.add_argument("--tasks", type=Path, metavar="FILE.py",
+                        help="a task file defining TASKS (default: the shipped development set)")
+    parser.add_argument("--only", nargs="+", metavar="NAME", help="run only these tasks")
+    parser.add_argument("--list", action="store_true", help="print the selected tasks and stop")
     parser.add_argument("--samples", type=int, default=1)
-    parser.add_argument("--tasks", nargs="+", metavar="NAME")
-    parser.add_argument("--episodes", type=int, default=100)
-    parser.add_argument("--max-rounds", type=int, default=3)
-    parser.add_argument("--max-tokens", type=int, default=1500)
-    parser.add_argument("--out", type=Path, default=Path("benchmarks/results/synthesis"))
-    args = parser.parse_args()
-    tasks = [t for t in TASKS if not args.tasks or t.name in args.tasks]
+    parser.add_argument("--max-tokens", type=int, default=400)
+    parser.add_argument("--out", type=Path)
+    args = parser.parse_args(argv)
+    tasks = select(load_tasks(args.tasks) if args.tasks else list(TASKS), args.only)
+    if args.list:
+        for task in tasks:
+            print(f"{task.name}\t{task.difficulty}")
+        return
+    if not (args.model_path or args.replay):
+        parser.error("one of --model-path or --replay is required (or --list)")
+    if args.replay:
+        args.out = args.out or Path(tempfile.mkdtemp(prefix="synthesis-replay-"))
+    args.out = (args.out or REPOSITORY / "benchmarks" / "results" / "synthesis").resolve()
+    if args.tasks and args.out.is_relative_to(REPOSITORY):
+        sys.exit(f"--out {args.out}: results of an external task file go outside the "
+                 "repository (they are not the shipped development set's)")
     started = time.perf_counter()
-    samples = replay(args.replay, tasks, args.episodes) if args.replay else run_models(args, tasks)
-    table = tables(samples, args.episodes)
+    samples = replay(args.replay, tasks) if args.replay else run_models(args, tasks)
+    if not samples:
+        sys.exit("no sample ran (no transcript of these tasks)")
+    table = tables(samples)
     print(f"\n{platform.machine()}, {platform.python_version()}, "
           f"{time.perf_counter() - started:.0f} s\n\n{table}")
-    out = args.replay or args.out
-    with (out / "results.csv").open("w", newline="") as handle:
+    args.out.mkdir(parents=True, exist_ok=True)
+    with (args.out / "results.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(asdict(samples[0])))
         writer.writeheader()
         writer.writerows(asdict(s) for s in samples)
-    write_atomic(out / "results.md", table)
+    write_atomic(args.out / "results.md", table)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ round trips are read from their parameters (sensing in between does not count).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -50,9 +50,12 @@ class Task:
 
 @dataclass(frozen=True)
 class TaskOutcome:
-    """What :func:`evaluate` counted. ``confidence``: that P[rho_B = +1] >= 0.95,
-    from the verified count; ``task_confidence``: the same from task_done;
-    ``failures``: the first (episode index, reason) pairs."""
+    """What :func:`evaluate` counted. ``verified``: rho_B = +1 (every certificate and, where
+    the behavior has one, its promise held); ``task_done``: verified and the task's check
+    passed; ``judged``: episodes whose certificates all held, so the promise was judged;
+    ``faithful``: those where the promise's verdict equals the check's; ``confidence``: that
+    P[rho_B = +1] >= 0.95, from the verified count; ``task_confidence``: the same from
+    task_done; ``failures``: the first (episode index, reason) pairs."""
 
     task: str
     behavior: str
@@ -62,49 +65,104 @@ class TaskOutcome:
     confidence: float
     task_confidence: float
     failures: tuple[tuple[int, str], ...]
+    judged: int = 0
+    faithful: int = 0
 
 
-# --- ground truth ------------------------------------------------------------------
+# --- ground truth (public: external task files use these) -------------------------
 
-def _cell(param: object) -> Cell:
+def cell(param: object) -> Cell:
+    """A step's parameter as a cell."""
     i, j = param  # type: ignore[misc]
     return int(i), int(j)
 
 
-def _moves(result: EpisodeResult) -> list[Cell]:
-    return [_cell(s["param"]) for s in result.steps if s["primitive"] == "navigate"]
+def moves(result: EpisodeResult) -> list[Cell]:
+    """The target cells of the episode's navigate steps, in order."""
+    return [cell(s["param"]) for s in result.steps if s["primitive"] == "navigate"]
 
 
-def _neighbours(state: GridState, cell: Cell) -> list[Cell]:
-    i, j = cell
+def neighbours(state: GridState, c: Cell) -> list[Cell]:
+    """The cells 4-adjacent to ``c`` inside the grid."""
+    i, j = c
     return [(a, b) for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1))
             if 0 <= a < state.size and 0 <= b < state.size]
 
 
-def _reachable(state: GridState) -> np.ndarray:
-    """Cells of the start cell's free component in the true map."""
+def reachable(state: GridState) -> np.ndarray:
+    """Cells of the start cell's free component in the true map (a boolean grid)."""
     return state.component == state.component[state.start_cell]
 
 
-def _exhausted(state: GridState) -> bool:
-    """Whether every reachable cell and every cell next to one is known."""
-    reach = _reachable(state)
+def _sense(state: GridState, known: np.ndarray, step: dict) -> None:
+    if step["primitive"] == "sense":
+        c = cell(step["param"])
+        for n in [c, *neighbours(state, c)]:
+            known[n] = True
+
+
+def known_after(state: GridState, steps: Sequence[dict]) -> np.ndarray:
+    """The cells known after ``steps`` from the reset (sense labels its cell and the four
+    around it), as a boolean grid."""
+    known = np.zeros_like(state.truth, dtype=bool)
+    for step in steps:
+        _sense(state, known, step)
+    return known
+
+
+def exhausted(state: GridState, known: np.ndarray | None = None) -> bool:
+    """Whether every reachable cell and every cell next to one is known (``known``: a
+    boolean grid; default: the agent's final labels)."""
+    known = state.labels != UNEXPLORED if known is None else known
+    reach = reachable(state)
     near = reach.copy()
     near[1:] |= reach[:-1]
     near[:-1] |= reach[1:]
     near[:, 1:] |= reach[:, :-1]
     near[:, :-1] |= reach[:, 1:]
-    return bool((state.labels[near] != UNEXPLORED).all())
+    return bool(known[near].all())
 
 
-def _known(state: GridState) -> int:
-    return int((state.labels != UNEXPLORED).sum())
-
-
-def _at_start(state: GridState) -> str | None:
+def at_start(state: GridState) -> str | None:
+    """None if the agent ended in its start cell, else where it ended."""
     if state.cell != state.start_cell:
         return f"ended in cell {state.cell}, not the start cell {state.start_cell}"
     return None
+
+
+def first_goal_sense(state: GridState, result: EpisodeResult) -> int | None:
+    """The index of the step whose sense first revealed a goal (None: none did)."""
+    for index, step in enumerate(result.steps):
+        if step["primitive"] == "sense":
+            c = cell(step["param"])
+            if any(state.truth[n] == GOAL for n in [c, *neighbours(state, c)]):
+                return index
+    return None
+
+
+def first_reaching(state: GridState, result: EpisodeResult,
+                   reached: Callable[[np.ndarray], bool]) -> int | None:
+    """The index of the first step after which ``reached(known cells)`` holds."""
+    known = np.zeros_like(state.truth, dtype=bool)
+    for index, step in enumerate(result.steps):
+        _sense(state, known, step)
+        if step["primitive"] == "sense" and reached(known):
+            return index
+    return None
+
+
+def _plan(steps: Sequence[dict]) -> list[tuple[str, Cell]]:
+    return [(s["primitive"], cell(s["param"])) for s in steps]
+
+
+def _then(state: GridState, result: EpisodeResult, index: int | None, what: str,
+          allowed: Callable[[list[tuple[str, Cell]]], bool]) -> str | None:
+    """A check's verdict: ``what`` must have happened (at step ``index``) and the steps
+    after it must be ``allowed``."""
+    if index is None:
+        return f"{what} never happened"
+    rest = _plan(result.steps[index + 1:])
+    return None if allowed(rest) else f"after {what} (step {index + 1}) it ran {rest[:6]}"
 
 
 # --- checks ------------------------------------------------------------------------
@@ -115,70 +173,74 @@ def check_sense_once(state: GridState, result: EpisodeResult) -> str | None:
 
 
 def check_go_to_goal(state: GridState, result: EpisodeResult) -> str | None:
-    if state.truth[state.cell] != GOAL:
-        return f"ended in cell {state.cell}, which is not a goal"
-    return None
+    """Once a goal is revealed, one move, onto a goal, and nothing else."""
+    return _then(state, result, first_goal_sense(state, result), "finding a goal",
+                 lambda rest: len(rest) == 1 and rest[0][0] == "navigate"
+                 and state.truth[rest[0][1]] == GOAL)
 
 
 def check_return_home(state: GridState, result: EpisodeResult) -> str | None:
-    if not (state.labels == GOAL).any():
-        return "no goal was found"
-    return _at_start(state)
+    """Once a goal is revealed, straight back to the start (no move if already there)."""
+    home = state.start_cell
+    return _then(state, result, first_goal_sense(state, result), "finding a goal",
+                 lambda rest: rest == [("navigate", home)]
+                 or (rest == [] and state.cell == home))
 
 
 def check_explore_until_goal(state: GridState, result: EpisodeResult) -> str | None:
     """A goal was found and the last step is the sense that first revealed one."""
-    for index, step in enumerate(result.steps):
-        if step["primitive"] == "sense":
-            cell = _cell(step["param"])
-            if any(state.truth[c] == GOAL for c in [cell, *_neighbours(state, cell)]):
-                extra = len(result.steps) - index - 1
-                return f"{extra} step(s) after finding a goal" if extra else None
-    return "no goal was found"
+    return _then(state, result, first_goal_sense(state, result), "finding a goal",
+                 lambda rest: rest == [])
 
 
 def round_trips(n: int) -> Check:
-    """A check: from the first move onto a goal on, the moves are exactly
-    [that goal, start] * n, ending at the start."""
+    """A check: once a goal is revealed, the moves are exactly [goal, start] * n (the same
+    goal each time), ending at the start."""
 
     def check(state: GridState, result: EpisodeResult) -> str | None:
-        moves = _moves(result)
-        first = next((k for k, c in enumerate(moves) if state.truth[c] == GOAL), None)
-        if first is None:
-            return "never moved onto a goal"
-        tail, want = moves[first:], [moves[first], state.start_cell] * n
+        found = first_goal_sense(state, result)
+        if found is None:
+            return "no goal was found"
+        tail = [c for name, c in _plan(result.steps[found + 1:]) if name == "navigate"]
+        if not tail or state.truth[tail[0]] != GOAL:
+            return f"the first move after finding a goal was not onto a goal: {tail[:2]}"
+        want = [tail[0], state.start_cell] * n
         if tail != want:
-            return f"moves from the goal on were {tail}, not {n} x {want[:2]}"
-        return _at_start(state)
+            return f"moves after finding a goal were {tail[:12]}, not {n} x {want[:2]}"
+        return at_start(state)
     return check
 
 
 def check_goal_sense_home(state: GridState, result: EpisodeResult) -> str | None:
-    if not any(s["primitive"] == "sense" and state.truth[_cell(s["param"])] == GOAL
-               for s in result.steps):
-        return "never sensed on a goal"
-    return _at_start(state)
+    """Once a goal is revealed: onto a goal, sense there, back to the start, nothing else."""
+    home = state.start_cell
+    return _then(state, result, first_goal_sense(state, result), "finding a goal",
+                 lambda rest: len(rest) == 3 and rest[0][0] == "navigate"
+                 and state.truth[rest[0][1]] == GOAL and rest[1] == ("sense", rest[0][1])
+                 and rest[2] == ("navigate", home))
+
+
+def _stops_when(what: str, enough: Callable[[GridState, np.ndarray], bool]) -> Check:
+    """A check: exploring stops with the sense after which ``enough`` (or exhaustion) first
+    holds."""
+
+    def check(state: GridState, result: EpisodeResult) -> str | None:
+        index = first_reaching(state, result,
+                               lambda known: enough(state, known) or exhausted(state, known))
+        return _then(state, result, index, what, lambda rest: rest == [])
+    return check
 
 
 def known_at_least(n: int) -> Check:
-    """A check: at least ``n`` cells known, or exploring exhausted."""
-
-    def check(state: GridState, result: EpisodeResult) -> str | None:
-        if _known(state) >= n or _exhausted(state):
-            return None
-        return f"only {_known(state)} cells known, and more could be found"
-    return check
+    """A check: stops as soon as at least ``n`` cells are known, or exploring is exhausted."""
+    return _stops_when(f"knowing {n} cells", lambda state, known: int(known.sum()) >= n)
 
 
 def obstacles_at_least(n: int) -> Check:
-    """A check: at least ``n`` obstacles known, or exploring exhausted."""
-
-    def check(state: GridState, result: EpisodeResult) -> str | None:
-        found = int((state.labels == OBSTACLE).sum())
-        if found >= n or _exhausted(state):
-            return None
-        return f"only {found} obstacles found, and more could be found"
-    return check
+    """A check: stops as soon as at least ``n`` obstacles are known, or exploring is
+    exhausted."""
+    return _stops_when(f"finding {n} obstacles",
+                       lambda state, known: int((known & (state.truth == OBSTACLE)).sum()) >= n)
 
 
 def patrol(n: int) -> Check:
@@ -186,29 +248,33 @@ def patrol(n: int) -> Check:
     the start."""
 
     def check(state: GridState, result: EpisodeResult) -> str | None:
-        moves, home = _moves(result), state.start_cell
-        spot = moves[0] if moves else home
-        if (spot not in _neighbours(state, home) or state.truth[spot] == OBSTACLE
-                or moves != [spot, home] * n):
-            return f"moves were {moves}, not {n} round trips to a free neighbour"
-        return _at_start(state)
+        route, home = moves(result), state.start_cell
+        spot = route[0] if route else home
+        if (spot not in neighbours(state, home) or state.truth[spot] == OBSTACLE
+                or route != [spot, home] * n):
+            return f"moves were {route}, not {n} round trips to a free neighbour"
+        return at_start(state)
     return check
 
 
-def check_explore_all(state: GridState, result: EpisodeResult) -> str | None:
-    if _exhausted(state):
-        return None
-    return f"only {_known(state)} cells known, and more could be found"
+check_explore_all = _stops_when("exploring everything", lambda state, known: False)
 
 
 def check_explore_all_return_home(state: GridState,
                                   result: EpisodeResult) -> str | None:
-    return check_explore_all(state, result) or _at_start(state)
+    """Exploring stops when exhausted, then straight back to the start."""
+    home = state.start_cell
+    index = first_reaching(state, result, lambda known: exhausted(state, known))
+    return _then(state, result, index, "exploring everything",
+                 lambda rest: rest == [("navigate", home)]
+                 or (rest == [] and state.cell == home))
 
 
 def check_visit_all_goals(state: GridState, result: EpisodeResult) -> str | None:
-    goals = {_cell(c) for c in np.argwhere(_reachable(state) & (state.truth == GOAL))}
-    missed = sorted(goals - set(_moves(result)))
+    """Every reachable goal is moved onto (a behavior cannot know it has found them all
+    before exploring everything, so what follows is free)."""
+    goals = {cell(c) for c in np.argwhere(reachable(state) & (state.truth == GOAL))}
+    missed = sorted(goals - set(moves(result)))
     return f"never moved onto reachable goal(s) {missed}" if missed else None
 
 
@@ -293,21 +359,27 @@ def evaluate(task: Task, behavior: str | Path, episodes: int = 100, seed: int = 
     config = CampaignConfig(ENV_ID, PolicyRef("behavior", str(behavior), library),
                             episodes, epsilon=EPSILON, seed=seed)
     env, policy = build(config)
-    verified = done = 0
+    verified = done = judged = faithful = 0
     failures: list[tuple[int, str]] = []
     try:
         for i in range(episodes):
             result = run_episode(env, policy, episode_seed(seed, i), i,
                                  config.stop_on_failure)
             reason = result.reason or "rho_B = -1"
-            if result.success:
-                verified += 1
-                reason = task.check(env.unwrapped.state, result)
-                done += reason is None
+            promise_failed = (result.cause or "").endswith(": promise")
+            if result.success or promise_failed:
+                judged += 1
+                verdict = task.check(env.unwrapped.state, result)
+                faithful += (verdict is None) == result.success
+                if result.success:
+                    verified += 1
+                    done += verdict is None
+                    reason = verdict
             if reason is not None and len(failures) < MAX_REASONS:
                 failures.append((i, reason))
     finally:
         env.close()
     return TaskOutcome(task.name, str(behavior), episodes, verified, done,
                        confidence(episodes, episodes - verified, EPSILON),
-                       confidence(episodes, episodes - done, EPSILON), tuple(failures))
+                       confidence(episodes, episodes - done, EPSILON), tuple(failures),
+                       judged, faithful)

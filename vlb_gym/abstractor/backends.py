@@ -454,9 +454,10 @@ class OpenAICompatibleBackend:
 
 
 class ScriptedBackend:
-    """Replies with the given strings, one per call, and records what it was asked."""
+    """Replies with the given strings, one per call, and records what it was asked; a None
+    reply (a recorded backend failure) is that failure again."""
 
-    def __init__(self, replies: Sequence[str], name: str = "scripted"):
+    def __init__(self, replies: Sequence[str | None], name: str = "scripted"):
         self.replies = list(replies)
         self.requests: list[list[Message]] = []
         self.name = name
@@ -466,7 +467,11 @@ class ScriptedBackend:
         if len(self.requests) > len(self.replies):
             raise BackendError(f"{self.name}: only {len(self.replies)} scripted repl"
                                f"{'y' if len(self.replies) == 1 else 'ies'}; asked for another")
-        return self.replies[len(self.requests) - 1]
+        reply = self.replies[len(self.requests) - 1]
+        if not isinstance(reply, str):
+            raise BackendError(f"{self.name}: reply {len(self.requests)} was recorded as a "
+                               "failure of the language model, not a reply")
+        return reply
 
     @classmethod
     def from_file(cls, path: str | Path) -> ScriptedBackend:
@@ -479,13 +484,18 @@ class ScriptedBackend:
 
 
 class TranscriptBackend(ScriptedBackend):
-    """Replays the raw replies recorded in a ``vlb synthesize`` transcript."""
+    """Replays the raw replies recorded in a ``vlb synthesize`` transcript (a graph-first one's
+    ``rounds``, or an intent-first one's ``drafts`` and their rounds)."""
 
     @classmethod
     def from_file(cls, path: str | Path) -> TranscriptBackend:
         data = _load_file(path, "transcript")
         try:
-            replies = [r["reply"] for r in data["rounds"]]
+            rounds = ([r for d in data["drafts"] for r in d["rounds"]]
+                      if isinstance(data, dict) and "drafts" in data else data["rounds"])
+            replies = [r["reply"] for r in rounds]
+            if not all(r is None or isinstance(r, str) for r in replies):
+                raise TypeError
         except (KeyError, TypeError):
             raise BackendError(f"{path}: not a vlb synthesize transcript (expected an object "
                                f"with a list of rounds, each with a reply)") from None

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from pathlib import Path
@@ -108,6 +109,66 @@ def announce_structured_output(backend: ChatBackend, command: str) -> None:
     print(f"vlb {command}: structured output: {dialect_label(dialect)}", file=sys.stderr)
 
 
+def confirm_promise(args: argparse.Namespace) -> Any:
+    """The confirmation step: the promise in words and as an expression, then ``--yes`` or the
+    user's answer on stdin (anything but y/yes, or no answer, declines)."""
+    def confirm(promise: Any) -> bool:
+        print(f"promise: {promise.description or '(no words given)'}\n  judged as: {promise.expr}")
+        if args.yes:
+            print("  accepted (--yes)")
+            return True
+        print("Certify a behavior against this promise? [y/N] ", end="", flush=True)
+        answer = sys.stdin.readline().strip().lower()
+        return answer in ("y", "yes")
+    return confirm
+
+
+def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> int:
+    """``vlb synthesize --certify``: intent first (promise, confirmation, search, certification)."""
+    from vlb_gym.abstractor.certified import synthesize_certified
+    from vlb_gym.abstractor.search import certification_episodes
+    from vlb_gym.abstractor.sketches import SPACES
+    from vlb_gym.core.library import BehaviorLibrary, spec_json
+    from vlb_gym.core.spec import spec_from_data
+    from vlb_gym.verify.bounds import floor_str
+
+    if args.env_id not in SPACES:
+        raise UsageError(f"--certify: {args.env_id} has no search space (it has: "
+                         f"{', '.join(SPACES)})")
+    library = BehaviorLibrary()
+    name = args.name or "certified_behavior"
+    path = Path(args.out) if args.out else library.directory / f"{name}.json"
+    if not args.out and name in library and not args.force:
+        raise UsageError(f"--name {name}: the library has a behavior of that name (use --force "
+                         "to replace it, or another --name)")
+    got = synthesize_certified(args.env_id, args.description, backend, confirm_promise(args),
+                               name)
+    transcript = path.with_suffix(".transcript.json")
+    if got.declined:
+        print("not confirmed: nothing searched, nothing saved")
+        return 1
+    if not got.certified:
+        where = path.with_suffix(".failed.transcript.json")
+        write_atomic(where, json.dumps(got.transcript, indent=2) + "\n")
+        t = got.transcript
+        print(f"vlb synthesize: no behavior certified: {sum(bool(d['promise']) for d in t['drafts'])}"
+              f" promise(s) of {len(t['drafts'])} draft(s), {sum(bool(f['candidate']) for f in t['finds'])}"
+              f" behavior(s) found, {len(t['certifications'])} certification(s) failed\n"
+              f"  transcript: {where}", file=sys.stderr)
+        return 1
+    spec = spec_from_data(got.document, str(path))
+    write_atomic(path, spec_json(spec))
+    write_atomic(transcript, json.dumps(got.transcript, indent=2) + "\n")
+    cert = got.search.certification
+    n = certification_episodes()
+    print(f"{name}: {got.search.candidate.label} (after {got.search.seconds:.0f} s)\n  certified on {cert.successes}/{len(cert.episodes)} "
+          f"fresh episodes (root seed {cert.seed}): the promise holds with P >= 0.95 at "
+          f"confidence {floor_str(got.search.confidence)} (union bound over up to 3 "
+          f"certification campaigns of {n} episodes)\n  saved: {path}\n  transcript: "
+          f"{transcript}")
+    return 0
+
+
 def cmd_synthesize(args: argparse.Namespace) -> int:
     from vlb_gym.abstractor.synthesize import SynthesisError, save, save_transcript, synthesize
     from vlb_gym.core.library import BehaviorLibrary
@@ -128,6 +189,8 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
         except UnicodeDecodeError:
             raise UsageError(f"--info {args.info}: not UTF-8 text") from None
     announce_structured_output(backend, "synthesize")
+    if args.certify:
+        return synthesize_certified_cmd(args, backend)
     try:
         result = synthesize(args.env_id, args.description, backend, library, info,
                             tuple(args.uses), args.name, args.max_rounds)
@@ -224,6 +287,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     add_model_options(y)
     y.add_argument("--replay-transcript", metavar="FILE",
                    help="replay the replies of an earlier synthesize transcript")
+    y.add_argument("--certify", action="store_true",
+                   help="intent first: the model writes the behavior's promise, you confirm it, "
+                   "and a search finds a behavior that certifies it on fresh seeds")
+    y.add_argument("--yes", action="store_true",
+                   help="with --certify: accept the model's promise without asking")
     y.add_argument("--verify", type=count(1), metavar="N",
                    help="then verify the result with N episodes")
     y.add_argument("--epsilon", type=probability, default=0.05, metavar="EPS",

@@ -21,6 +21,7 @@ import networkx as nx
 from .env import PrimitiveEnv
 from .expressions import BUILTINS, Expression, ExpressionError
 from .helpers import arity
+from .promise import compile_promise
 from .spec import BehaviorSpec, BehaviorSpecError
 from .typecheck import BUILTIN_SIGNATURES, Signature, helper_signatures
 from .typecheck import check as typecheck
@@ -65,6 +66,7 @@ class CompiledBehavior:
     variables: tuple[tuple[str, Expression], ...]
     functions: tuple[tuple[str, Expression], ...]
     graph: nx.MultiDiGraph = field(repr=False)
+    promise: Expression | None = None
 
     @cached_property
     def depth(self) -> int:
@@ -206,6 +208,10 @@ class _Expressions:
                     raise self.fail(f"{kind}.{name}", _taken(name, helpers))
                 names[name] = VALUE if kind == "variables" else len(spec.functions[name].args)
         self.names = names
+        self.own = {**{n: "an observation helper (what the agent sees, not what happened)"
+                       for n in helpers},
+                    **{n: "a variable of the behavior" for n in spec.variables},
+                    **{n: "a function of the behavior" for n in spec.functions}}
         functions = []
         for name in self._function_order(spec):
             fn = spec.functions[name]
@@ -276,5 +282,5 @@ def compile_behavior(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
     compiled[source] = CompiledBehavior(
         spec.name, source, spec, nodes, out_edges, spec.start.node,
         expr(spec.start.param, "start.param"), frozenset(spec.terminals), expr.variables,
-        expr.functions, graph)
+        expr.functions, graph, compile_promise(spec, interface, source, expr.own))
     return compiled[source]

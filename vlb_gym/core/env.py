@@ -23,7 +23,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from .helpers import Helpers, brief
+from .helpers import Helpers, Judge, brief
 from .primitive import MotionPrimitive, Outcome, execute
 
 State = TypeVar("State")
@@ -35,7 +35,8 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
 
     Subclasses call ``super().__init__(primitives, observation_space, render_mode)`` and
     implement :meth:`sample_state`, :meth:`observation`, :meth:`make_helpers` and
-    :meth:`sampling_distribution`; they may override :meth:`reset_info`, :meth:`step_info`,
+    :meth:`sampling_distribution`; they may override :meth:`make_judge` (promises),
+    :meth:`reset_info`, :meth:`step_info`,
     :meth:`reward`, :meth:`render` and :meth:`film`, and name slow imports in :attr:`preload`. Every step's ``info`` holds ``primitive``,
     ``param``, ``admissible``, ``certificate`` (and ``reason`` when it failed), the parts'
     certificates and the measurements of the primitive (:class:`~vlb_gym.core.primitive.Outcome`),
@@ -82,6 +83,12 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
     @abc.abstractmethod
     def sampling_distribution(self) -> str:
         """The distribution ``reset()`` samples from, in words: what a guarantee holds for."""
+
+    def make_judge(self) -> Judge | None:
+        """Fresh outcome helpers for behaviors' promises (read the true state and the steps a
+        behavior ran; see :mod:`vlb_gym.core.promise`); None if behaviors on this env cannot
+        promise anything."""
+        return None
 
     def reset_info(self) -> dict[str, Any]:
         """``info`` returned by ``reset``."""

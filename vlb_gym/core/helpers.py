@@ -81,3 +81,17 @@ class Helpers(abc.ABC):
             signature = str(inspect.signature(fn)).replace("'", "")
             out[f"{name}{signature}"] = " ".join(doc.split("\n\n")[0].split())
         return out
+
+
+class Judge(Helpers):
+    """Base class: the outcome helpers a behavior's promise is written with.
+
+    Where :class:`Helpers` read an observation, a judge reads a :class:`~vlb_gym.core.promise.
+    Episode`: the environment's true state when a behavior finished and the steps that behavior
+    ran. The environment, which knows ``d``, judges promises as it judges certificates.
+    :meth:`summary` says in a line what the judge saw, for failure reasons and feedback.
+    """
+
+    @abc.abstractmethod
+    def summary(self) -> str:
+        """The bound episode's outcome in a line (where the agent ended, what it did)."""

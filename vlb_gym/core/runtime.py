@@ -22,6 +22,7 @@ import numpy as np
 from .compiler import CompiledBehavior
 from .env import PrimitiveEnv
 from .expressions import Budget, EvaluationLimitError, Expression, guard_namespace
+from .promise import Claim
 
 
 class BehaviorRuntimeError(RuntimeError):
@@ -29,10 +30,12 @@ class BehaviorRuntimeError(RuntimeError):
 
 
 class _Frame:
-    __slots__ = ("behavior", "ns", "node")
+    __slots__ = ("behavior", "ns", "node", "since")
 
-    def __init__(self, behavior: CompiledBehavior, static: Mapping[str, Any], budget: Budget):
+    def __init__(self, behavior: CompiledBehavior, static: Mapping[str, Any], budget: Budget,
+                 since: int):
         self.behavior = behavior
+        self.since = since  # primitives chosen before this behavior began
         self.ns = guard_namespace(static, budget)
         self.node = behavior.start_node
         for name, fn in behavior.functions:
@@ -48,6 +51,10 @@ class BehaviorPolicy:
     ``(None, None)`` and :attr:`finished` is True. A :class:`BehaviorRuntimeError` means the
     behavior itself failed (stuck in a non-terminal node, an expression raised, a parameter outside
     the primitive's space).
+
+    A behavior that declares a promise and finishes leaves a :class:`~vlb_gym.core.promise.Claim`
+    that :meth:`claims` hands over (innermost first): the episode's robustness wrapper judges it
+    with the environment's true state, which the policy never reads.
     """
 
     def __init__(self, behavior: CompiledBehavior, interface: PrimitiveEnv):
@@ -69,6 +76,12 @@ class BehaviorPolicy:
         self._started = False
         self.finished = False
         self.trace: list[tuple[str, str]] = []  # (behavior, node) of every primitive chosen
+        self._claims: list[Claim] = []
+
+    def claims(self) -> list[Claim]:
+        """The promises of the behaviors that finished since the last call, to be judged."""
+        claims, self._claims = self._claims, []
+        return claims
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
                 deterministic: bool = True) -> tuple[np.ndarray | None, str | None]:
@@ -96,7 +109,7 @@ class BehaviorPolicy:
             raise BehaviorRuntimeError(f"{expr.where}: {type(exc).__name__}: {exc}") from exc
 
     def _enter_behavior(self, behavior: CompiledBehavior) -> np.ndarray:
-        frame = _Frame(behavior, self._static, self._budget)
+        frame = _Frame(behavior, self._static, self._budget, len(self.trace))
         self._stack.append(frame)
         for name, expr in behavior.variables:
             frame.ns[name] = self._run(expr, frame)
@@ -126,7 +139,10 @@ class BehaviorPolicy:
                 raise BehaviorRuntimeError(
                     f"{frame.behavior.source}: stuck at node {frame.node!r}: no edge guard holds "
                     "and the node is not terminal")
-            self._stack.pop()
+            done = self._stack.pop().behavior
+            if done.promise is not None:
+                self._claims.append(Claim(done.name, done.promise,
+                                          done.spec.promise.description, frame.since))
         self.finished = True
         return None
 

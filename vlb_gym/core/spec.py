@@ -11,10 +11,14 @@ A behavior ``B = (N, E, S, T)`` (the paper's Definition 2) is written as::
       "edges": [{"from": "sense", "to": "go", "guard": "not goal_found()", "param": "E4()",
                  "set": {"trips": "trips + 1"}}],        # E: first edge whose guard holds is taken
       "start": {"node": "sense", "param": "current_cell()"},   # S
-      "terminals": ["sense"]                             # T
+      "terminals": ["sense"],                            # T
+      "promise": {"expr": "goal_found()",                # what holds when it finishes
+                  "description": "a goal has been found"}
     }
 
-Every string that is evaluated is an expression of :mod:`vlb_gym.core.expressions`.
+Every string that is evaluated is an expression of :mod:`vlb_gym.core.expressions`. The
+``promise`` is judged by the environment, over the episode (see :mod:`vlb_gym.core.promise`): it
+names only the environment's outcome helpers, never the behavior's own variables.
 """
 
 from __future__ import annotations
@@ -91,6 +95,14 @@ class Function(_Model):
     description: str = ""
 
 
+class Promise(_Model):
+    """What the behavior promises holds when it finishes: an expression over the env's outcome
+    helpers (the final state and the steps the behavior ran), and the same in plain words."""
+
+    expr: ExpressionText
+    description: str = Field("", max_length=500)
+
+
 class BehaviorSpec(_Model):
     """A whole behavior file."""
 
@@ -104,6 +116,7 @@ class BehaviorSpec(_Model):
     edges: list[Edge] = Field(default_factory=list, max_length=1024)
     start: Start
     terminals: list[Identifier] = Field(min_length=1)
+    promise: Promise | None = None
 
 
 def _place(loc: tuple[Any, ...]) -> str:

@@ -10,7 +10,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from vlb_gym.core.runtime import failure_cause
+from vlb_gym.core.runtime import BehaviorPolicy, failure_cause
 from vlb_gym.wrappers.robustness import RobustnessWrapper, certificate_cause
 
 
@@ -142,8 +142,13 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
             on_step(None)
         while env.summary is None:
             action, state = policy.predict(obs)
+            if isinstance(policy, BehaviorPolicy):  # behaviors that finished: their promises
+                env.judge(policy.claims())
             if action is None:
                 env.end(finished=True)
+                break
+            if stop_on_failure and env.failed:  # a sub-behavior broke its promise
+                env.end(finished=False)
                 break
             obs, _, _, _, info = env.step(action)
             steps.append(step_record(info, state if isinstance(state, str) else None))

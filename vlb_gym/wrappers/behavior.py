@@ -117,6 +117,7 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self._obs, self._failure, self._cause = obs, None, None
         try:
             self._action, _ = self.policy.predict(obs)
+            self.robustness.judge(self.policy.claims())
         except BehaviorRuntimeError as exc:
             self._action, self._failure = None, f"BehaviorRuntimeError: {exc}"
             self._cause = failure_cause(exc)

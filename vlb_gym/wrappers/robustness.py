@@ -7,6 +7,8 @@ from typing import Any
 
 import gymnasium as gym
 
+from vlb_gym.core.promise import Claim, judge
+
 
 def behavior_robustness(finished: bool, certificates: Iterable[bool]) -> int:
     """rho_B (the paper's eq. behavior_robustness): +1 iff the behavior finished and every
@@ -24,9 +26,9 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     * the caller calls :meth:`end` -- a behavior graph does so when it reaches a terminal node
       with no edge to take (``finished=True``), a runner when the policy raised (``False``).
 
-    rho_B is +1 iff the behavior finished and every certificate held, else -1: an inadmissible
-    parameter, a failed controller, a runtime error in the behavior and running past the step
-    bound all give -1.
+    rho_B is +1 iff the behavior finished, every certificate held and every promise judged
+    (:meth:`judge`) held, else -1: an inadmissible parameter, a failed controller, a broken
+    promise, a runtime error in the behavior and running past the step bound all give -1.
     """
 
     def __init__(self, env: gym.Env):
@@ -34,6 +36,8 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         super().__init__(env)
         self.certificates: list[bool] = []
         self.history: list[dict[str, Any]] = []  # every step's info, for replays
+        self.promises: list[bool] = []
+        self._reset_info: dict[str, Any] = {}
         self.first_failure: str | None = None
         self.first_cause: str | None = None
         self.summary: dict[str, Any] | None = None
@@ -41,10 +45,12 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def reset(self, **kwargs: Any):
         self.certificates = []
         self.history = []
+        self.promises = []
         self.first_failure = None
         self.first_cause = None
         self.summary = None
-        return self.env.reset(**kwargs)
+        obs, self._reset_info = self.env.reset(**kwargs)
+        return obs, self._reset_info
 
     def step(self, action: Any):
         if self.summary is not None:
@@ -62,6 +68,17 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
                                        None if terminated else "step bound")}
         return obs, reward, terminated, truncated, info
 
+    def judge(self, claims: Iterable[Claim]) -> None:
+        """Judge the promises of behaviors that have just finished, with the true state and
+        the steps each ran; a broken one fails the episode like a failed certificate (cause
+        ``"<behavior>: promise"``)."""
+        for claim in claims:
+            problem = judge(self.env.unwrapped, claim, self.history, self._reset_info)
+            self.promises.append(problem is None)
+            if problem is not None and self.first_failure is None:
+                self.first_failure = f"after step {len(self.history)}: {problem}"
+                self.first_cause = f"{claim.behavior}: promise"
+
     @property
     def failed(self) -> bool:
         """Whether some certificate has already failed (rho_B will be -1)."""
@@ -75,7 +92,7 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         e.g. ``"step bound"`` or ``"behavior runtime error"``)."""
         if self.summary is not None:
             return self.summary
-        rho = behavior_robustness(finished, self.certificates)
+        rho = behavior_robustness(finished, [*self.certificates, *self.promises])
         if rho < 0:  # the first failed certificate is the root cause when there is one
             reason = self.first_failure or reason or "behavior did not finish"
             cause = self.first_cause or cause or "did not finish"

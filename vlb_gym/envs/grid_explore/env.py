@@ -14,6 +14,7 @@ from vlb_gym.envs import arguments
 
 from .generator import check_fits, sample_state
 from .helpers import GridHelpers
+from .judge import GridJudge
 from .primitives import Navigate, Sense, controller_modules
 from .types import GridState, Label
 from .viewer import render_rgb
@@ -120,6 +121,10 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
     def make_helpers(self) -> GridHelpers:
         """Fresh helpers (E1-E3) reading this environment's observations."""
         return GridHelpers(self.size)
+
+    def make_judge(self) -> GridJudge:
+        """Fresh outcome helpers for promises (the true map and the steps a behavior ran)."""
+        return GridJudge(self.size)
 
     def reset_info(self) -> dict[str, Any]:
         return {"start_cell": self.state.start_cell}

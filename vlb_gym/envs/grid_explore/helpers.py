@@ -22,6 +22,21 @@ def _integer(value: Any) -> bool:
     return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
 
 
+def cell_index(cell: Any, size: int, fn: str) -> int:
+    """The flat index of ``cell`` on a ``size`` grid, else ValueError naming helper ``fn``;
+    types are checked before anything else (an untrusted value is never hashed)."""
+    if type(cell) is tuple and len(cell) == 2:
+        i, j = cell
+        if type(i) is int and type(j) is int and 0 <= i < size and 0 <= j < size:
+            return i * size + j
+    if not (isinstance(cell, (tuple, list)) and len(cell) == 2):
+        raise ValueError(f"{fn}(): {brief(cell)} is not a cell (i, j)")
+    i, j = cell
+    if not (_integer(i) and _integer(j) and 0 <= i < size and 0 <= j < size):
+        raise ValueError(f"{fn}(): {brief(cell)} is not a cell of the {size}x{size} grid")
+    return i * size + j
+
+
 class GridHelpers(Helpers):
     """Helpers for ``VLB-GridExplore-v0`` observations.
 
@@ -42,18 +57,7 @@ class GridHelpers(Helpers):
         self._here = cell_of(observation["position"], self.size)
 
     def _index(self, cell: Any, fn: str) -> int:
-        """The flat index of ``cell``; types are checked before anything else (never hashed)."""
-        if type(cell) is tuple and len(cell) == 2:
-            i, j = cell
-            if type(i) is int and type(j) is int and 0 <= i < self.size and 0 <= j < self.size:
-                return i * self.size + j
-        if not (isinstance(cell, (tuple, list)) and len(cell) == 2):
-            raise ValueError(f"{fn}(): {brief(cell)} is not a cell (i, j)")
-        i, j = cell
-        if not (_integer(i) and _integer(j) and 0 <= i < self.size and 0 <= j < self.size):
-            raise ValueError(f"{fn}(): {brief(cell)} is not a cell of the {self.size}x{self.size} "
-                             "grid")
-        return i * self.size + j
+        return cell_index(cell, self.size, fn)
 
     @helper
     def explored(self) -> list[Cell]:

@@ -16,7 +16,7 @@ from vlb_gym.envs import arguments
 
 from . import gl, piles
 from .generator import place, sample_environment
-from .helpers import ScoopHelpers
+from .helpers import ScoopHelpers, ScoopJudge
 from .kinematics import Kinematics, matrix_rpy, rpy_matrix
 from .primitives import Scoop
 from .scene import DEFAULT_PHYSICS, GRAIN_MASS, Physics, Scene, build_scene
@@ -130,6 +130,10 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
 
     def make_helpers(self) -> ScoopHelpers:
         return ScoopHelpers()
+
+    def make_judge(self) -> ScoopJudge:
+        """Fresh outcome helpers for promises (what the behavior's scoops measured)."""
+        return ScoopJudge()
 
     def sample_state(self) -> ScoopState:
         env = sample_environment(self.np_random, self.grain_counts, self.placement_noise,

@@ -6,7 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from vlb_gym.core.helpers import Helpers, brief, helper
+from vlb_gym.core.helpers import Helpers, Judge, brief, helper
+from vlb_gym.core.promise import Episode
 
 Pose = tuple[float, float, float, float, float, float]
 
@@ -44,3 +45,39 @@ class ScoopHelpers(Helpers):
         values = [_number("offset", v) for v in (*pose, dx, dy, dz)]
         x, y, z, roll, pitch, yaw, dx, dy, dz = values
         return (x + dx, y + dy, z + dz, roll, pitch, yaw)
+
+
+class ScoopJudge(Judge):
+    """Outcome helpers for ``VLB-Scoop-v0`` promises: what the behavior's scoops measured.
+
+    Masses are in grams, as the scoop primitive measures them (grains in the receiver, on the
+    table, in the spoon).
+    """
+
+    def __init__(self) -> None:
+        self._steps: list[dict[str, Any]] = []
+
+    def bind(self, episode: Episode) -> None:
+        self._steps = [dict(s) for s in episode.steps]
+
+    def _total(self, key: str) -> float:
+        return float(sum(float(s.get(key, 0.0)) for s in self._steps))
+
+    @helper
+    def scoops(self) -> int:
+        """How many scoops the behavior ran."""
+        return sum(1 for s in self._steps if s["primitive"] == "scoop")
+
+    @helper
+    def delivered(self) -> float:
+        """Grams the behavior's scoops delivered into the receiver, in all."""
+        return self._total("mass_delivered")
+
+    @helper
+    def spilled(self) -> float:
+        """Grams the behavior's scoops spilled outside both containers, in all."""
+        return self._total("mass_spilled")
+
+    def summary(self) -> str:
+        return (f"{self.scoops()} scoop(s), {self.delivered():.1f} g delivered, "
+                f"{self.spilled():.1f} g spilled")
