@@ -263,8 +263,9 @@ def test_shipped_behaviors_and_paper_replies_meet_the_request_schema(user_librar
                 valid = True
                 if compiled.name not in library:  # the second prompt builds on the first
                     library.save(compiled.spec)
+        graph = {k: v for k, v in doc.items() if k != "promise"}  # promises are asked apart
         errors = list(jsonschema.Draft202012Validator(request_schema(env, LIBRARY))
-                      .iter_errors(doc))
+                      .iter_errors(graph))
         assert (not errors) is bool(valid), (doc["name"], [e.message for e in errors])
         checked += 1
     assert checked >= 6

@@ -1,9 +1,10 @@
 """The committed real-model transcripts of the certified-synthesis evaluation replay, offline, to
-the outcome the live run recorded (benchmarks/results/synthesis)."""
+the outcome the live run recorded (benchmarks/results/synthesis), and the harness's options."""
 
 from __future__ import annotations
 
 import csv
+import subprocess
 import sys
 from pathlib import Path
 
@@ -14,37 +15,78 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from benchmarks.synthesis_eval import replay, tables  # noqa: E402
+from benchmarks.synthesis_tasks import TASKS  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results" / "synthesis"
-EPISODES = 10
+HARNESS = ROOT / "benchmarks" / "synthesis_eval.py"
 
 
 @pytest.fixture(scope="module")
 def replayed():
-    from benchmarks.synthesis_tasks import TASKS
-    return replay(RESULTS, list(TASKS), EPISODES)
+    return replay(RESULTS, list(TASKS))  # exits if a transcript ends otherwise than it did
 
 
-def test_every_live_sample_replays_round_by_round(replayed):
-    """``replay`` exits when a round's error differs; here the outcomes are held to the CSV of
-    the live run."""
+def live_rows() -> dict[tuple[str, str, int], dict[str, str]]:
     with (RESULTS / "results.csv").open() as handle:
-        live = {(r["model"], r["task"], int(r["sample"])): r for r in csv.DictReader(handle)}
-    assert len(replayed) == len(live) > 0
+        return {(r["model"], r["task"], int(r["sample"])): r for r in csv.DictReader(handle)}
+
+
+def test_every_live_sample_replays_to_its_recorded_outcome(replayed):
+    live = live_rows()
+    assert len(replayed) == len(live) >= len(TASKS)
     for sample in replayed:
         row = live[(sample.model, sample.task, sample.sample)]
-        assert (sample.valid, sample.rounds, sample.layers) == \
-            (row["valid"] == "True", int(row["rounds"]), row["layers"])
-        assert sample.reply_tokens == int(row["reply_tokens"]) > 0
-        if sample.valid and int(row["done"]) == int(row["episodes"]):
-            assert sample.done == EPISODES  # certified at 100 episodes: done on the first 10
-        if sample.valid and int(row["verified"]) == 0:
-            assert sample.verified == 0
+        assert (sample.promise, str(sample.certified), sample.candidate) == \
+            (row["promise"], row["certified"], row["candidate"])
+        assert (sample.episodes, sample.verified, sample.done, sample.judged,
+                sample.faithful) == tuple(int(row[k]) for k in (
+                    "episodes", "verified", "done", "judged", "faithful"))
 
 
-def test_the_table_counts_what_the_samples_say(replayed):
-    table = tables(replayed, EPISODES)
-    for model in {s.model for s in replayed}:
-        mine = [s for s in replayed if s.model == model]
-        valid = sum(s.valid for s in mine) / len(mine)
-        assert f"| {model} | {len(mine)} | {valid:.0%} |" in table
+def test_the_committed_table_is_the_replayed_one(replayed):
+    assert tables(replayed) == (RESULTS / "results.md").read_text()
+
+
+def harness(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, str(HARNESS), *args], capture_output=True, text=True,
+                          timeout=120, cwd=ROOT)
+
+
+EXTERNAL = '''
+from benchmarks.synthesis_tasks import REFERENCES, Task, at_start
+
+def check(state, result):
+    return at_start(state)
+
+TASKS = [Task("stay_home", "Sense once and stay where you are.", 1, False,
+              REFERENCES / "sense_once.json", check),
+         Task("wander", "Walk around a bit.", 2, False, REFERENCES / "sense_once.json", check)]
+'''
+
+
+def test_an_external_task_file_lists_its_tasks_without_a_model(tmp_path):
+    tasks = tmp_path / "tasks.py"
+    tasks.write_text(EXTERNAL)
+    proc = harness("--tasks", str(tasks), "--list")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.splitlines() == ["stay_home\t1", "wander\t2"]
+    assert harness("--tasks", str(tasks), "--only", "wander", "--list").stdout == "wander\t2\n"
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--only", "no_such_task", "--list"], "unknown task(s) no_such_task"),
+    (["--tasks", "{missing}", "--list"], "no such file"),
+    (["--tasks", "{empty}", "--list"], "defines no TASKS"),
+    (["--tasks", "{tasks}", "--replay", str(RESULTS), "--out", str(ROOT / "x")],
+     "go outside the repository"),
+])
+def test_harness_errors_are_one_line_and_write_nothing(tmp_path, args, words):
+    (tmp_path / "tasks.py").write_text(EXTERNAL)
+    (tmp_path / "empty.py").write_text("TASKS = 3\n")
+    paths = {"missing": tmp_path / "nope.py", "empty": tmp_path / "empty.py",
+             "tasks": tmp_path / "tasks.py"}
+    before = (RESULTS / "results.csv").read_bytes()
+    proc = harness(*[a.format(**paths) for a in args])
+    assert proc.returncode != 0 and words in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert (RESULTS / "results.csv").read_bytes() == before and not (ROOT / "x").exists()

@@ -61,6 +61,14 @@ def test_shipped_paper_behaviors_do_the_paper_tasks():
     ("goal_sense_home", "return_home"),  # never senses on the goal
     ("patrol_neighbour", "sense_once"),
     ("explore_all_return_home", "explore_all"),  # ends where exploring ended
+    # the loopholes the issue found in the earlier checks
+    ("return_home", "two_round_trips"),
+    ("return_home", "goal_sense_home"),
+    ("return_home", "find_goal_and_oscillate"),
+    ("go_to_goal", "visit_all_goals"),
+    ("explore_20_cells", "explore_all"),
+    ("find_3_obstacles", "explore_all"),
+    ("explore_all", "explore_all_return_home"),
 ])
 def test_checks_reject_wrong_behaviors(task, behavior):
     assert done(task, ref(behavior)) == 0

@@ -10,7 +10,7 @@ schema keeps the shape of a behavior document and drops the limits:
 
 * the top level is fixed and all of it required, in the order a behavior is read: ``name``,
   ``description``, ``env`` (a constant), ``variables`` and ``functions`` (empty objects when
-  unused), ``nodes``, ``edges``, ``start``, ``terminals``, then the optional ``promise``. Grammar compilers write required
+  unused), ``nodes``, ``edges``, ``start``, ``terminals`` (a promise is written apart, first: :func:`promise_schema`). Grammar compilers write required
   properties first, in their order, then the optional ones: with ``variables`` optional, a
   constrained model could only declare them after the edges that use them, and small models
   then leave them out. Every object of fixed shape has ``additionalProperties: false``;
@@ -122,13 +122,11 @@ def grammar_schema(env_id: str, primitives: Iterable[str], behaviors: Iterable[s
             "edges": {"type": "array", "items": {"$ref": "#/$defs/Edge"},
                       "maxItems": MAX_GRAPH_ITEMS},
             "start": {"$ref": "#/$defs/Start"},
-            "terminals": {"type": "array", "items": _name(), "minItems": 1},
-            "promise": {"$ref": "#/$defs/Promise"}},
+            "terminals": {"type": "array", "items": _name(), "minItems": 1}},
         "required": ["name", "description", "env", "variables", "functions", "nodes", "edges",
                      "start", "terminals"],
         "additionalProperties": False,
-        "$defs": {"Node": node, "Edge": edge, "Start": start, "Function": function,
-                  "Promise": promise_schema()}}
+        "$defs": {"Node": node, "Edge": edge, "Start": start, "Function": function}}
 
 
 def promise_schema() -> dict[str, Any]:

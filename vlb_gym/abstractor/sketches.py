@@ -115,6 +115,7 @@ class Candidate:
 
     label: str
     document: dict[str, Any]
+    phases: int = field(default=1, compare=False)
 
     @property
     def key(self) -> str:
@@ -148,7 +149,8 @@ def candidates(space: Space, env_id: str, name: str, description: str, counts: l
             if not all(space.follows(a, b) for a, b in zip(phases, phases[1:])):
                 continue
             candidate = Candidate(" -> ".join(p.label for p in phases),
-                                  compose(phases, name, description, env_id, space.variables))
+                                  compose(phases, name, description, env_id, space.variables),
+                                  len(phases))
             if candidate.key not in seen:
                 seen.add(candidate.key)
                 yield candidate

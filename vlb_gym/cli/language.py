@@ -126,7 +126,7 @@ def confirm_promise(args: argparse.Namespace) -> Any:
 def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> int:
     """``vlb synthesize --certify``: intent first (promise, confirmation, search, certification)."""
     from vlb_gym.abstractor.certified import synthesize_certified
-    from vlb_gym.abstractor.search import certification_episodes
+    from vlb_gym.abstractor.search import ATTEMPTS, EPSILON, certification_episodes
     from vlb_gym.abstractor.sketches import SPACES
     from vlb_gym.core.library import BehaviorLibrary, spec_json
     from vlb_gym.core.spec import spec_from_data
@@ -151,21 +151,23 @@ def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> 
         where = path.with_suffix(".failed.transcript.json")
         write_atomic(where, json.dumps(got.transcript, indent=2) + "\n")
         t = got.transcript
-        print(f"vlb synthesize: no behavior certified: {sum(bool(d['promise']) for d in t['drafts'])}"
-              f" promise(s) of {len(t['drafts'])} draft(s), {sum(bool(f['candidate']) for f in t['finds'])}"
-              f" behavior(s) found, {len(t['certifications'])} certification(s) failed\n"
-              f"  transcript: {where}", file=sys.stderr)
+        promises = sum(bool(d["promise"]) for d in t["drafts"])
+        found = sum(bool(f["candidate"]) for f in t["finds"])
+        print(f"vlb synthesize: no behavior certified: {promises} promise(s) of "
+              f"{len(t['drafts'])} draft(s), {found} behavior(s) found, "
+              f"{len(t['certifications'])} certification(s) failed\n  transcript: {where}",
+              file=sys.stderr)
         return 1
     spec = spec_from_data(got.document, str(path))
     write_atomic(path, spec_json(spec))
     write_atomic(transcript, json.dumps(got.transcript, indent=2) + "\n")
     cert = got.search.certification
-    n = certification_episodes()
-    print(f"{name}: {got.search.candidate.label} (after {got.search.seconds:.0f} s)\n  certified on {cert.successes}/{len(cert.episodes)} "
-          f"fresh episodes (root seed {cert.seed}): the promise holds with P >= 0.95 at "
-          f"confidence {floor_str(got.search.confidence)} (union bound over up to 3 "
-          f"certification campaigns of {n} episodes)\n  saved: {path}\n  transcript: "
-          f"{transcript}")
+    print(f"{name}: {got.search.candidate.label} (after {got.search.seconds:.0f} s)\n"
+          f"  certified on {cert.successes}/{len(cert.episodes)} fresh episodes (root seed "
+          f"{cert.seed}): the promise holds with P >= {1 - EPSILON:g} at confidence "
+          f"{floor_str(got.search.confidence)} (union bound over up to {ATTEMPTS} "
+          f"certification campaigns of {certification_episodes()} episodes)\n"
+          f"  saved: {path}\n  transcript: {transcript}")
     return 0
 
 

@@ -45,6 +45,10 @@ def cmd_behaviors(args: argparse.Namespace) -> int:
 def graph_text(compiled: CompiledBehavior) -> str:
     """The nodes and edges of a compiled behavior, one per line."""
     lines = [f"{compiled.name}: {compiled.spec.description}"]
+    promise = compiled.spec.promise
+    if promise is not None:
+        lines.append(f"  promise: {promise.description or promise.expr}"
+                     + (f"\n    judged as: {promise.expr}" if promise.description else ""))
     for node in compiled.spec.nodes:
         kind = f"primitive {node.primitive}" if node.primitive else f"behavior {node.behavior}"
         tags = (" [start]" if node.id == compiled.start_node else "") + \

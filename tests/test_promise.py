@@ -1,0 +1,169 @@
+"""Promises: a behavior's outcome, judged by the env from the episode, counts in rho_B."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vlb_gym import BehaviorSpecError
+from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
+from vlb_gym.core.promise import Episode
+from vlb_gym.core.runtime import BehaviorPolicy
+from vlb_gym.core.spec import spec_from_data
+from vlb_gym.envs.grid_explore.judge import GridJudge
+from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED
+from vlb_gym.envs.scoop.helpers import ScoopJudge
+from vlb_gym.verify import run_episode
+from vlb_gym.wrappers import RobustnessWrapper
+from vlb_gym.wrappers.behavior import BehaviorFinished
+
+SENSE_ONCE = {"name": "sense_once", "description": "sense where it stands",
+              "env": "VLB-GridExplore-v0", "nodes": [{"id": "look", "primitive": "sense"}],
+              "start": {"node": "look", "param": "current_cell()"}, "terminals": ["look"]}
+
+
+def behavior(env, promise: str | None, doc: dict = SENSE_ONCE, library=None) -> BehaviorPolicy:
+    data = {**doc, **({"promise": {"expr": promise, "description": "as written"}}
+                      if promise else {})}
+    spec = spec_from_data(data, "<test>")
+    return BehaviorPolicy(compile_spec(spec, env, "<test>", None, library), env.unwrapped)
+
+
+def test_a_promise_that_holds_keeps_rho_and_one_that_fails_names_itself(grid_env):
+    held = behavior(grid_env, "sensed() == [start_cell()] and final_cell() == start_cell()")
+    broken = behavior(grid_env, "len(moves()) > 0")
+    for seed in range(5):
+        assert run_episode(grid_env, held, seed).success
+        result = run_episode(grid_env, broken, seed)
+        assert not result.success and result.cause == "sense_once: promise"
+        assert result.reason.startswith("after step 1: promise of sense_once failed (as written:"
+                                        " it does not hold): began in")
+        assert result.failed_certificates == 0  # every certificate held: the promise failed
+
+
+def test_a_promise_that_raises_fails_the_episode_not_the_process(grid_env):
+    policy = behavior(grid_env, "moves()[0] == start_cell()")  # sense only: no move at all
+    result = run_episode(grid_env, policy, 0)
+    assert not result.success and "IndexError" in result.reason
+    assert result.error is None
+
+
+@pytest.mark.parametrize("promise, words", [
+    ("len(explored()) > 3", "'explored' is an observation helper"),
+    ("seen > 0 and goal_found()", "'seen' is a variable"),
+    ("True", "calls no outcome helper"),
+    ("1 + 1 == 2", "calls no outcome helper"),
+    ("goal_found(3)", "goal_found"),
+    ("is_goal(start_cell(), 1)", "is_goal"),
+])
+def test_promises_over_the_behaviors_own_state_or_nothing_are_refused(grid_env, promise, words):
+    doc = {**SENSE_ONCE, "variables": {"seen": "0"}}
+    with pytest.raises(BehaviorSpecError, match="promise") as err:
+        behavior(grid_env, promise, doc)
+    assert words in str(err.value)
+    assert err.value.layer == "expressions"
+
+
+def test_a_sub_behaviors_promise_is_its_nodes_certificate(grid_env, user_library):
+    library = BehaviorLibrary()
+    library.save(spec_from_data({**SENSE_ONCE, "promise": {
+        "expr": "len(known_obstacles()) > 0", "description": "an obstacle is known"}},
+        "<child>"))
+    parent = {"name": "parent", "description": "the child, then go to the start",
+              "env": "VLB-GridExplore-v0", "variables": {"home": "current_cell()"},
+              "nodes": [{"id": "child", "behavior": "sense_once"},
+                        {"id": "go", "primitive": "navigate"}],
+              "edges": [{"from": "child", "to": "go", "param": "home"}],
+              "start": {"node": "child"}, "terminals": ["go"]}
+    policy = behavior(grid_env, None, parent, library)
+    outcomes = []
+    for seed in range(20):  # the child promised an obstacle: the parent stops where it broke
+        result = run_episode(grid_env, policy, seed)
+        outcomes.append(result.success)
+        obstacles = int((grid_env.unwrapped.state.labels == OBSTACLE).sum())
+        if result.success:
+            assert result.primitives == 2 and obstacles > 0
+        else:
+            assert result.cause == "sense_once: promise" and result.primitives == 1
+            assert obstacles == 0 and "0 obstacle(s) known" in result.reason
+    assert 0 < sum(outcomes) < 20
+
+
+def test_behavior_finished_wrapper_scores_the_promise(grid_env):
+    compiled = behavior(grid_env, "len(moves()) > 0").behavior
+    wrapped = BehaviorFinished(grid_env, compiled)
+    _, start = wrapped.reset(seed=0)
+    sense_here = wrapped.unwrapped.encode_action("sense", tuple(start["start_cell"]))
+    *_, terminated, truncated, info = wrapped.step(sense_here)
+    assert (terminated, truncated) == (True, False)  # the behavior finished: the env is done
+    assert info["rho_B"] == -1 and info["failure_cause"] == "sense_once: promise"
+
+
+def test_shipped_behaviors_keep_their_promises(grid_env):
+    for name in ("explore_until_goal", "find_goal_and_oscillate"):
+        policy = load_behavior(name, grid_env)
+        assert policy.behavior.promise is not None
+        for seed in range(10):
+            assert run_episode(grid_env, policy, seed).success, (name, seed)
+
+
+# --- the judges, against an independent reading of the state ----------------------------------
+
+def independent_reachable(truth: np.ndarray, start: tuple[int, int]) -> set[tuple[int, int]]:
+    size = truth.shape[0]
+    seen, todo = {start}, [start]
+    while todo:
+        i, j = todo.pop()
+        for n in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)):
+            if 0 <= n[0] < size and 0 <= n[1] < size and n not in seen \
+                    and truth[n] != OBSTACLE:
+                seen.add(n)
+                todo.append(n)
+    return seen
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10_000), moves=st.integers(0, 12))
+def test_grid_judge_agrees_with_an_independent_reading(seed, moves):
+    env = RobustnessWrapper(gym.make("VLB-GridExplore-v0"))
+    _, reset_info = env.reset(seed=seed)
+    state = env.unwrapped.state
+    rng = np.random.default_rng(seed)
+    for _ in range(moves):
+        cell = tuple(int(v) for v in state.cell)
+        options = [n for n in ((cell[0] + 1, cell[1]), (cell[0] - 1, cell[1]),
+                               (cell[0], cell[1] + 1), (cell[0], cell[1] - 1))
+                   if 0 <= min(n) and max(n) < state.truth.shape[0]]
+        target = options[rng.integers(len(options))]
+        primitive = ["sense", "navigate"][int(rng.integers(2))]
+        env.step(env.unwrapped.encode_action(primitive, target if primitive == "navigate" else cell))
+        if env.summary is not None:
+            break
+    judge = GridJudge(state.truth.shape[0])
+    judge.bind(Episode(state, env.history, reset_info))
+    start = tuple(reset_info["start_cell"])
+    navigate = [tuple(int(v) for v in s["param"]) for s in env.history
+                if s["primitive"] == "navigate"]
+    reach = independent_reachable(state.truth, start)
+    labels = state.labels
+    assert judge.start_cell() == start and judge.final_cell() == tuple(state.cell)
+    assert judge.moves() == navigate
+    assert set(judge.reachable_cells()) == reach
+    assert set(judge.reachable_goals()) == {c for c in reach if state.truth[c] == GOAL}
+    assert set(judge.known_cells()) == {tuple(c) for c in np.argwhere(labels != UNEXPLORED)}
+    assert judge.goal_found() == bool((labels == GOAL).any())
+    near = reach | {n for c in reach for n in judge.neighbours(c)}
+    assert judge.explored_all() == all(labels[c] != UNEXPLORED for c in near)
+    env.close()
+
+
+def test_scoop_judge_sums_what_the_scoops_measured():
+    judge = ScoopJudge()
+    steps = [{"primitive": "scoop", "mass_delivered": 2.5, "mass_spilled": 0.25},
+             {"primitive": "scoop", "mass_delivered": 1.0, "mass_spilled": 0.0}]
+    judge.bind(Episode(None, steps, {}))
+    assert (judge.scoops(), judge.delivered(), judge.spilled()) == (2, 3.5, 0.25)
+    assert judge.summary() == "2 scoop(s), 3.5 g delivered, 0.2 g spilled"
