@@ -78,7 +78,7 @@ def test_auto_says_which_it_uses_as_documented(tmp_path, capsys):
     assert "vlb synthesize: structured output: llamacpp (json_object + schema)\n" in \
         capsys.readouterr().err
     assert server.requests[0]["response_format"]["type"] == "json_schema"
-    assert server.requests[0]["max_tokens"] <= 32  # a tiny probe
+    assert server.requests[0]["max_tokens"] <= 256  # a small probe
     transcript = json.loads((tmp_path / "b.transcript.json").read_text())
     assert "Input should be 'text' or 'json_object'" in \
         transcript["structured_output_probe"][0]["outcome"]
@@ -149,7 +149,7 @@ def test_a_probe_that_times_out_is_an_error_not_a_fallback(capsys):
     assert "structured output probe (openai): " in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("status", [401, 403, 404, 429])
+@pytest.mark.parametrize("status", [401, 403, 429])
 def test_errors_that_say_nothing_of_the_shape_end_the_probe(status, capsys):
     error = b'{"error": {"message": "no"}}'
     with ChatServer([("status", status, error)] * 4) as server:
@@ -158,6 +158,15 @@ def test_errors_that_say_nothing_of_the_shape_end_the_probe(status, capsys):
     assert len(server.requests) == 1
     assert f"structured output probe (openai): {server.url}/chat/completions: HTTP {status}" in \
         capsys.readouterr().err
+
+
+def test_a_404_tries_the_native_api_and_then_ends_the_probe(capsys):
+    error = b'{"error": {"message": "no"}}'
+    with ChatServer([("status", 404, error)] * 4) as server:
+        assert main(["synthesize", ENV, PROMPT, "--base-url", server.url, "--model", "m",
+                     "--structured-output", "auto", "--retries", "0"]) == 2
+    assert server.paths == ["/v1/chat/completions", "/api/chat"]
+    assert "rejected every request shape" in capsys.readouterr().err
 
 
 def test_a_server_rejecting_every_shape_is_an_error(capsys):
@@ -280,3 +289,41 @@ def test_the_schema_goes_with_the_request_and_the_compact_prompt_shows_an_exampl
     assert [m["role"] for m in body["messages"]] == ["system", "user", "assistant", "user"]
     assert json.loads(body["messages"][2]["content"])["nodes"] and '"$defs"' not in prompt
     assert '"maxLength": 2000' not in prompt
+
+
+# -- served models on the same footing as the local one ------------------------------------------
+
+def test_auto_against_ollama_without_v1_finds_its_native_api(tmp_path, capsys):
+    with ChatServer([("reply", REPLY)], dialect="ollama") as server:
+        assert synthesize(server, tmp_path, "auto", base_url=server.origin) == 0
+    assert server.paths == ["/chat/completions", "/api/chat", "/api/chat"]
+    assert "vlb synthesize: structured output: ollama (" in capsys.readouterr().err
+    probe = json.loads((tmp_path / "b.transcript.json").read_text())["structured_output_probe"]
+    assert probe[0]["outcome"].startswith("no endpoint:") and probe[1]["outcome"] == "used"
+
+
+def test_an_empty_probe_reply_is_named_not_taken_for_no_structured_output(tmp_path, capsys):
+    with ChatServer([("reply", "")]) as server:
+        assert synthesize(server, tmp_path, "auto") == 2
+    err = capsys.readouterr().err
+    assert "the model replied nothing within 256 tokens" in err and len(server.requests) == 1
+
+
+def test_a_server_gets_temperature_seed_and_token_limit_and_redraws_a_repeat(tmp_path):
+    with ChatServer([("reply", "A"), ("reply", "B")]) as server:
+        backend = OpenAICompatibleBackend(server.url, "m", structured_output="none",
+                                          temperature=0.2, seed=7, max_tokens=99)
+        messages = [{"role": "user", "content": "x"}, {"role": "assistant", "content": "A"},
+                    {"role": "user", "content": "again"}]
+        assert backend.complete(messages) == "B"  # "A" repeats an earlier turn: drawn again
+    first, second = server.requests
+    assert (first["temperature"], first["seed"], first["max_tokens"]) == (0.2, 7, 99)
+    assert (second["temperature"], second["seed"], second["max_tokens"]) == (0.7, 8, 99)
+
+
+def test_cli_sampling_options_reach_the_server(tmp_path):
+    with ChatServer([("reply", REPLY)], dialect="openai") as server:
+        assert synthesize(server, tmp_path, "openai", "--temperature", "0.4",
+                          "--sampling-seed", "3", "--max-tokens", "700") == 0
+    body = server.requests[0]
+    assert (body["temperature"], body["seed"], body["max_tokens"]) == (0.4, 3, 700)

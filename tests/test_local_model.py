@@ -8,7 +8,8 @@ import os
 
 import pytest
 
-from vlb_gym.abstractor.local import RESAMPLE_TEMPERATURE, RESAMPLES, LocalBackend
+from vlb_gym.abstractor.backends import RESAMPLE_TEMPERATURE, RESAMPLES
+from vlb_gym.abstractor.local import LocalBackend
 from vlb_gym.abstractor.paper import PROMPTS
 from vlb_gym.abstractor.synthesize import SynthesisError, synthesize
 from vlb_gym.cli import main

@@ -155,6 +155,9 @@ def test_grid_judge_agrees_with_an_independent_reading(seed, moves):
     assert set(judge.reachable_goals()) == {c for c in reach if state.truth[c] == GOAL}
     assert set(judge.known_cells()) == {tuple(c) for c in np.argwhere(labels != UNEXPLORED)}
     assert judge.goal_found() == bool((labels == GOAL).any())
+    known = [False] + [bool(s["goal_found"]) for s in env.history]
+    after = -1 if not known[-1] else len(known) - 1 - known.index(True)
+    assert judge.steps_after_goal() == after
     near = reach | {n for c in reach for n in judge.neighbours(c)}
     assert judge.explored_all() == all(labels[c] != UNEXPLORED for c in near)
     env.close()

@@ -19,7 +19,7 @@ import random
 import socket
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, Literal, Protocol
 
@@ -66,7 +66,11 @@ schema makes the model add ``"probe": "vlb"``; a server that ignores it gets ``{
 (or free text) from an obliging model, which does not match, so the next dialect is tried."""
 PROBE_MESSAGES: list[Message] = [{"role": "user", "content": (
     'This is a connection test. Reply with the JSON object {"ok": true} and nothing else.')}]
-PROBE_MAX_TOKENS = 32
+PROBE_MAX_TOKENS = 256
+"""Tokens the probe allows: room for a reasoning model's thoughts before ``{"ok": true}``."""
+MISSING_ENDPOINT = (404, 405)
+"""Statuses that say the OpenAI-compatible ``/chat/completions`` is not there (Ollama without
+``/v1``): the probe then tries only the dialects with an endpoint of their own."""
 OLLAMA_NUM_CTX = 8192
 """Context window asked of Ollama (its default, 2,048 or 4,096 tokens, would silently cut the
 behavior prompt)."""
@@ -254,7 +258,8 @@ class OpenAICompatibleBackend:
     def __init__(self, base_url: str, model: str, api_key_env: str = "OPENAI_API_KEY",
                  timeout: float = 60.0, max_retries: int = 3, backoff: float = 1.0,
                  structured_output: StructuredOutput = "openai", temperature: float = 0.0,
-                 max_reply_bytes: int = MAX_REPLY_BYTES, max_reply_chars: int = MAX_REPLY_CHARS):
+                 max_reply_bytes: int = MAX_REPLY_BYTES, max_reply_chars: int = MAX_REPLY_CHARS,
+                 max_tokens: int | None = None, seed: int | None = None):
         try:
             url = httpx.URL(base_url)
         except httpx.InvalidURL as exc:
@@ -269,9 +274,10 @@ class OpenAICompatibleBackend:
         if structured_output != "auto" and structured_output not in DIALECTS:
             raise ValueError(f"structured_output must be auto, {', '.join(DIALECTS)} or "
                              f"json_schema (got {structured_output!r})")
-        if timeout <= 0 or max_retries < 0 or max_reply_bytes < 1 or max_reply_chars < 1:
-            raise ValueError("timeout and the reply limits must be positive, max_retries at "
-                             "least 0")
+        if timeout <= 0 or max_retries < 0 or max_reply_bytes < 1 or max_reply_chars < 1 \
+                or (max_tokens is not None and max_tokens < 1) or temperature < 0:
+            raise ValueError("timeout, max_tokens and the reply limits must be positive, "
+                             "max_retries and temperature at least 0")
         base = base_url.rstrip("/")
         self.url = base + "/chat/completions"
         self.native_url = base.removesuffix("/v1") + "/api/chat"
@@ -281,7 +287,7 @@ class OpenAICompatibleBackend:
         self.structured_output = structured_output
         self.probe_log: list[dict[str, str]] = []
         self._dialect = None if structured_output == "auto" else structured_output
-        self.temperature = temperature
+        self.temperature, self.seed, self.max_tokens = temperature, seed, max_tokens
         self.max_reply_bytes, self.max_reply_chars = max_reply_bytes, max_reply_chars
         self.name = f"{model} at {base_url}"
 
@@ -291,19 +297,24 @@ class OpenAICompatibleBackend:
         return self._dialect
 
     def _body(self, dialect: str, messages: Sequence[Message], schema: dict[str, Any] | None,
-              max_tokens: int | None = None, strict: bool = False) -> bytes:
+              max_tokens: int | None = None, strict: bool = False, temperature: float = 0.0,
+              seed: int | None = None) -> bytes:
         if dialect == "ollama":
-            options: dict[str, Any] = {"temperature": self.temperature, "num_ctx": OLLAMA_NUM_CTX}
+            options: dict[str, Any] = {"temperature": temperature, "num_ctx": OLLAMA_NUM_CTX}
             if max_tokens is not None:
                 options["num_predict"] = max_tokens
+            if seed is not None:
+                options["seed"] = seed
             body: dict[str, Any] = {"model": self.model, "messages": list(messages),
                                     "stream": False, "options": options}
             if schema is not None:
                 body["format"] = schema
             return json.dumps(body).encode()
-        body = {"model": self.model, "messages": list(messages), "temperature": self.temperature}
+        body = {"model": self.model, "messages": list(messages), "temperature": temperature}
         if max_tokens is not None:
             body["max_tokens"] = max_tokens
+        if seed is not None:
+            body["seed"] = seed
         if dialect == "openai" and schema is not None:
             body["response_format"] = {"type": "json_schema", "json_schema": {
                 "name": "behavior" if not strict else "probe", "schema": schema,
@@ -319,8 +330,15 @@ class OpenAICompatibleBackend:
         return json.dumps(body).encode()
 
     def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
+        """One reply, with the backend's temperature, seed and token limit; a reply that repeats
+        an earlier assistant turn is drawn again (:func:`unrepeated`)."""
         dialect = self.probe()
-        return self._request(dialect, self._body(dialect, messages, schema))
+
+        def draw(temperature: float, seed: int | None) -> str:
+            return self._request(dialect, self._body(dialect, messages, schema, self.max_tokens,
+                                                     temperature=temperature, seed=seed))
+
+        return unrepeated(draw, messages, self.temperature, self.seed)
 
     def probe(self) -> str:
         """The dialect to use; for ``"auto"``, found once (then kept) by sending a tiny request
@@ -335,17 +353,29 @@ class OpenAICompatibleBackend:
         """
         if self._dialect is not None:
             return self._dialect
+        missing = False  # no /chat/completions: only the native dialect can answer
         for dialect in AUTO_ORDER:
+            if missing and dialect != "ollama":
+                continue
             strict = dialect == "openai"  # the probe schema is strict-ready: OpenAI enforces it
             body = self._body(dialect, PROBE_MESSAGES, PROBE_SCHEMA, PROBE_MAX_TOKENS, strict)
             try:
                 reply = self._request(dialect, body)
             except BackendError as exc:
+                if exc.status in MISSING_ENDPOINT and dialect != "ollama":
+                    missing = True
+                    self.probe_log.append({"dialect": dialect, "outcome": f"no endpoint: {exc}"})
+                    continue
                 if exc.status is not None and shape_rejected(exc.status, exc.body, dialect):
                     self.probe_log.append({"dialect": dialect, "outcome": f"rejected: {exc}"})
                     continue
                 raise BackendError(f"structured output probe ({dialect}): {exc}", exc.status,
                                    exc.body) from None
+            if not reply.strip():
+                raise BackendError(f"structured output probe ({dialect}): the model replied "
+                                   f"nothing within {PROBE_MAX_TOKENS} tokens (a reasoning model "
+                                   "may spend them thinking); name the dialect with "
+                                   "--structured-output instead of auto")
             if probe_reply_ok(reply, dialect):
                 self.probe_log.append({"dialect": dialect, "outcome": "used"})
                 self._dialect = dialect
@@ -451,6 +481,27 @@ class OpenAICompatibleBackend:
             content = (content[:self.max_reply_chars] + f"\n[... cut: the reply has "
                        f"{len(content)} characters; at most {self.max_reply_chars} are kept]")
         return content
+
+
+RESAMPLES = 2
+"""Draws after the first when a reply repeats an earlier assistant turn."""
+RESAMPLE_TEMPERATURE = 0.7
+"""The least temperature of those draws: greedy decoding would repeat the same reply."""
+
+
+def unrepeated(draw: Callable[[float, int | None], str], messages: Sequence[Message],
+               temperature: float, seed: int | None) -> str:
+    """``draw(temperature, seed)``, drawn again while the reply repeats an earlier assistant
+    turn of ``messages`` (a rejected reply the conversation kept, or a worked example copied):
+    at least at :data:`RESAMPLE_TEMPERATURE` with another seed, up to :data:`RESAMPLES` times.
+    The redraw policy of every model backend."""
+    earlier = {m["content"] for m in messages if m["role"] == "assistant"}
+    reply = draw(temperature, seed)
+    for n in range(1, RESAMPLES + 1):
+        if reply not in earlier:
+            break
+        reply = draw(max(temperature, RESAMPLE_TEMPERATURE), (seed or 0) + n)
+    return reply
 
 
 class ScriptedBackend:

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .backends import BackendError, Message
+from .backends import BackendError, Message, unrepeated
 
 GGUF_MAGIC = b"GGUF"
 DEFAULT_CONTEXT = 8192
@@ -28,10 +28,6 @@ DEFAULT_MAX_TOKENS = 1500
 """Tokens per reply; a behavior document of the paper's size is 250-500."""
 DEFAULT_TIMEOUT = 1800.0
 """Seconds per reply: a 1.5B model on two CPU cores generates 3-10 tokens/s."""
-RESAMPLES = 2
-"""Draws after the first when a reply repeats a rejected one."""
-RESAMPLE_TEMPERATURE = 0.7
-"""The least temperature of those draws: greedy decoding would repeat the same reply."""
 
 
 @dataclass(frozen=True)
@@ -125,17 +121,19 @@ class LocalBackend:
     def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
         """One reply. A reply identical to an earlier assistant turn -- a reply the repair loop
         rejected (greedy decoding repeats itself through repair rounds) or the prompt's worked
-        example, copied -- is drawn again, at least at ``RESAMPLE_TEMPERATURE`` with a new
-        seed, up to ``RESAMPLES`` times; ``usage`` records each draw."""
-        rejected = {m["content"] for m in messages if m["role"] == "assistant"}
-        reply = self._decode(messages, schema, self.temperature, self.seed)
-        for draw in range(1, RESAMPLES + 1):
-            if reply not in rejected:
-                break
-            self.usage[-1]["repeated"] = True
-            reply = self._decode(messages, schema, max(self.temperature, RESAMPLE_TEMPERATURE),
-                                 self.seed + draw)
-        return reply
+        example, copied -- is drawn again (:func:`~vlb_gym.abstractor.backends.unrepeated`:
+        at least at ``RESAMPLE_TEMPERATURE`` with a new seed, up to ``RESAMPLES`` times);
+        ``usage`` records each draw, a repeated one marked ``repeated``."""
+        earlier = {m["content"] for m in messages if m["role"] == "assistant"}
+
+        def draw(temperature: float, seed: int | None) -> str:
+            reply = self._decode(messages, schema, temperature, self.seed if seed is None
+                                 else seed)
+            if reply in earlier:
+                self.usage[-1]["repeated"] = True
+            return reply
+
+        return unrepeated(draw, messages, self.temperature, self.seed)
 
     def _decode(self, messages: Sequence[Message], schema: dict[str, Any] | None,
                 temperature: float, seed: int) -> str:

@@ -225,9 +225,10 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
                        help="context window (default 8192)")
     local.add_argument("--threads", type=count(1), metavar="N",
                        help="CPU threads (default: all)")
-    local.add_argument("--max-tokens", type=count(1), default=1500, metavar="N",
-                       help="tokens per reply (default 1500)")
-    local.add_argument("--temperature", type=float, default=0.0, metavar="T",
-                       help="sampling temperature; 0 (the default) is greedy")
-    local.add_argument("--sampling-seed", type=count(0), default=0, metavar="S",
-                       help="seed of the sampler when --temperature > 0")
+    p.add_argument("--max-tokens", type=count(1), default=1500, metavar="N",
+                   help="tokens per reply (default 1500)")
+    p.add_argument("--temperature", type=float, default=0.0, metavar="T",
+                   help="sampling temperature; 0 (the default) is greedy")
+    p.add_argument("--sampling-seed", type=count(0), default=0, metavar="S",
+                   help="seed of the sampler when --temperature > 0 (sent to a server as "
+                   "'seed')")

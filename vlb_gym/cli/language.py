@@ -42,10 +42,10 @@ def backend_from_args(args: argparse.Namespace) -> ChatBackend:
     except BackendError as exc:  # an unreadable or malformed file of replies
         raise UsageError(str(exc)) from None
     try:
+        if args.temperature < 0:
+            raise ValueError(f"--temperature must be at least 0 (got {args.temperature})")
         if args.model_path:
             from vlb_gym.abstractor.local import DEFAULT_TIMEOUT, LocalBackend
-            if args.temperature < 0:
-                raise ValueError(f"--temperature must be at least 0 (got {args.temperature})")
             return LocalBackend(args.model_path, args.context, args.threads, args.max_tokens,
                                 args.temperature, args.sampling_seed,
                                 args.timeout or DEFAULT_TIMEOUT, progress=TokenProgress())
@@ -53,7 +53,9 @@ def backend_from_args(args: argparse.Namespace) -> ChatBackend:
             raise UsageError("--base-url needs --model NAME")
         return OpenAICompatibleBackend(args.base_url, args.model, args.api_key_env,
                                        args.timeout or default_timeout(args.base_url),
-                                       args.retries, structured_output=args.structured_output)
+                                       args.retries, structured_output=args.structured_output,
+                                       temperature=args.temperature, max_tokens=args.max_tokens,
+                                       seed=args.sampling_seed)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
 

@@ -32,11 +32,14 @@ class GridJudge(Judge):
         self._state: GridState | None = None
         self._steps: list[tuple[str, Cell]] = []
         self._start: Cell = (0, 0)
+        self._goal_known: list[bool] = []
 
     def bind(self, episode: Episode) -> None:
         self._state = episode.state
         self._steps = [(s["primitive"], tuple(int(v) for v in s["param"])) for s in episode.steps]
         entry = episode.entry
+        self._goal_known = [bool(entry.get("goal_found", False))] + \
+            [bool(s["goal_found"]) for s in episode.steps]
         self._start = tuple(entry["cell"] if "cell" in entry else entry["start_cell"])
 
     @property
@@ -84,6 +87,15 @@ class GridJudge(Judge):
     def goal_found(self) -> bool:
         """Whether the agent has labelled some cell 'goal'."""
         return bool((self._state.labels == GOAL).any())
+
+    @helper
+    def steps_after_goal(self) -> int:
+        """How many primitives the behavior ran after the one that first revealed a goal: 0 if
+        its last step did, -1 if no goal is known (the number of its steps if one was known
+        before it began)."""
+        if not self._goal_known[-1]:
+            return -1
+        return len(self._goal_known) - 1 - self._goal_known.index(True)
 
     @helper
     def is_goal(self, cell: Cell) -> bool:
