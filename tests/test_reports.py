@@ -242,3 +242,12 @@ def test_without_matplotlib_or_graphviz_the_report_says_so(campaign, tmp_path, m
     assert "no picture (install matplotlib" in text
     assert floor5(campaign["report"]["lower_bound"]) in text
     assert {p.name for p in written} == {"report.json", "report.md", "report.html"}
+
+
+def test_the_report_states_each_behaviors_promise_and_how_often_it_broke(campaign):
+    text = (campaign["out"] / "report.md").read_text()
+    for name in ("find_goal_and_oscillate", "explore_until_goal"):
+        count = sum(e.get("cause") == f"{name}: promise" for e in campaign["episodes"])
+        shown = name.replace("_", "\\_")
+        assert f"Promise of {shown}: **" in text
+        assert f"broken in **{count}** of 30 episode(s)." in text

@@ -233,6 +233,7 @@ def graph_blocks(report: dict[str, Any], plan: dict[str, Any],
             continue
         blocks.append(Figure(f"graph-{i}.png", png, f"graph of the {title}",
                              f"{title} ({key}), drawn with {how}"))
+        blocks += promise_blocks(spec, episodes)
     no_certificate = [e for e in episodes
                       if e.get("rho", 1) < 0 and not e.get("failed_certificates")]
     if no_certificate:
@@ -241,6 +242,18 @@ def graph_blocks(report: dict[str, Any], plan: dict[str, Any],
                                  "failed certificate (", "; ".join(causes),
                                  "): they are not on the graph."]))
     return blocks + primitive_table(episodes)
+
+
+def promise_blocks(spec: dict[str, Any], episodes: list[dict[str, Any]]) -> list[Block]:
+    """The behavior's promise in words and as judged, and how many episodes broke it."""
+    promise = spec.get("promise")
+    if not isinstance(promise, dict):
+        return []
+    name = str(spec.get("name", "?"))
+    broken = sum(1 for e in episodes if e.get("cause") == f"{name}: promise")
+    return [Paragraph([f"Promise of {name}: ", Strong(str(promise.get("description") or "")),
+                       " (judged as ", Code(str(promise.get("expr", ""))), "); broken in ",
+                       Strong(str(broken)), f" of {len(episodes)} episode(s)."])]
 
 
 def primitive_table(episodes: list[dict[str, Any]]) -> list[Block]:
