@@ -96,12 +96,20 @@ def test_unknown_primitive_is_repaired_on_the_second_round(library):
 
 
 def test_reply_that_never_validates_fails_clearly_and_adds_nothing(library):
-    with ChatServer([("reply", "{}")] * 3) as server:
+    replies = ["{}", '{"name": 1}', '{"nodes": 2}']  # distinct: a repeat would be drawn again
+    with ChatServer([("reply", r) for r in replies]) as server:
         with pytest.raises(SynthesisError, match="no valid behavior after 3 round") as err:
             synthesize(ENV, PAPER_PROMPT_1, http_backend(server), library, max_rounds=3)
     assert len(server.requests) == 3
     assert [r["layer"] for r in err.value.transcript["rounds"]] == ["schema"] * 3
     assert library.user_behaviors() == []
+
+
+def test_a_served_reply_repeating_a_rejected_one_is_drawn_again(library):
+    with ChatServer([("reply", "{}"), ("reply", "{}"), ("reply", reply())]) as server:
+        result = synthesize(ENV, PAPER_PROMPT_1, http_backend(server), library, max_rounds=2)
+    assert result.rounds == 2 and len(server.requests) == 3
+    assert server.requests[2]["temperature"] >= 0.7 and server.requests[2]["seed"] == 1
 
 
 def test_server_errors_are_retried_then_fail_clearly():

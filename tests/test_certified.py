@@ -202,3 +202,19 @@ def test_cli_certify_on_an_env_without_a_space_is_one_error_line(tmp_path):
                "--out", str(tmp_path / "x.json"))
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
     assert "no search space" in proc.stderr
+
+
+def test_consensus_weighs_the_first_draft_most():
+    """Two later drafts agreeing on a weaker promise do not outvote the first draft's (the
+    nearest examples'): the behavior that keeps the first one is certified."""
+    weaker = [Promise(expr="goal_found() and primitives()[-1] == 'sense'", description="a"),
+              Promise(expr="goal_found() and primitives()[-1] == 'sense' and len(sensed()) > 0",
+                      description="b")]
+    backend = ScriptedBackend([reply(HOME), reply(weaker[0]), reply(weaker[1]),
+                               reply(weaker[0])])
+    got = synthesize_certified(GRID_ID, REQUEST, backend)
+    consensus = {c["candidate"]: c["keeps"] for c in got.transcript["consensus"]}
+    assert consensus == {"explore until a goal is found -> go to the start": [0],
+                         "explore until a goal is found": [1, 2]}
+    assert got.certified and got.promise == HOME
+    assert got.search.candidate.label == "explore until a goal is found -> go to the start"

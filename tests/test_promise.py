@@ -158,6 +158,9 @@ def test_grid_judge_agrees_with_an_independent_reading(seed, moves):
     known = [False] + [bool(s["goal_found"]) for s in env.history]
     after = -1 if not known[-1] else len(known) - 1 - known.index(True)
     assert judge.steps_after_goal() == after
+    later = env.history[len(env.history) - after:] if after > 0 else []
+    assert judge.moves_after_goal() == [tuple(int(v) for v in s["param"]) for s in later
+                                        if s["primitive"] == "navigate"]
     near = reach | {n for c in reach for n in judge.neighbours(c)}
     assert judge.explored_all() == all(labels[c] != UNEXPLORED for c in near)
     env.close()

@@ -90,3 +90,18 @@ def test_harness_errors_are_one_line_and_write_nothing(tmp_path, args, words):
     assert proc.returncode != 0 and words in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
     assert (RESULTS / "results.csv").read_bytes() == before and not (ROOT / "x").exists()
+
+
+def test_the_held_out_tasks_are_satisfiable_and_their_checks_can_fail():
+    from benchmarks.synthesis_eval import load_tasks
+    from benchmarks.synthesis_tasks import evaluate, task_named
+
+    held_out = {t.name: t for t in load_tasks(ROOT / "benchmarks" / "heldout" / "tasks.py")}
+    assert not set(held_out) & {t.name for t in TASKS}
+    for task in held_out.values():
+        assert evaluate(task, task.reference, 10).task_done == 10, task.name
+    for name, wrong in [("home_and_sense", "return_home"), ("goal_then_neighbour", "return_home"),
+                        ("everything_then_goal", "explore_all"),
+                        ("three_round_trips", "two_round_trips"),
+                        ("fifteen_cells_home", "explore_all_return_home")]:
+        assert evaluate(held_out[name], task_named(wrong).reference, 10).task_done == 0, name

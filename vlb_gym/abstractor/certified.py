@@ -8,9 +8,10 @@
 2. for each distinct promise, :func:`~vlb_gym.abstractor.search.find` looks for the smallest
    behavior of the env's search space that keeps it on the screening episodes;
 3. *consensus*: every behavior found is screened against every promise, and the behaviors are
-   ranked by how many promises they keep (a small model's mistakes differ from draft to draft;
-   what most drafts agree on is more likely what the user meant). The best behavior is
-   paired with the earliest promise it keeps;
+   ranked by the promises they keep, each weighing 1/(k+1) for the draft k that first wrote it
+   (a small model's mistakes differ from draft to draft, so what several drafts agree on is more
+   likely what the user meant, and the first draft, shown the nearest examples, counts most).
+   The best behavior is paired with the earliest promise it keeps;
 4. ``confirm`` shows that promise to the user (the CLI prints it in words and asks; ``--yes``
    accepts), since a promise that certifies is only as good as its wording;
 5. the behavior is certified against it on fresh seeds
@@ -79,12 +80,14 @@ def synthesize_certified(env_id: str, request: str, backend: ChatBackend,
                                   "pipeline": "intent-first", "drafts": [], "finds": [],
                                   "consensus": [], "certifications": []}
     promises: list[Promise] = []
+    weights: list[float] = []  # of each promise: 1 / (k + 1) for the draft k that wrote it first
     for k in range(drafts):
         draft = draft_promise(request, interface, backend, ROUNDS_PER_DRAFT, attempt=k)
         transcript["drafts"].append({"rounds": draft.rounds, "promise": draft.promise
                                      and draft.promise.model_dump()})
         if draft.promise is not None and draft.promise.expr not in {p.expr for p in promises}:
             promises.append(draft.promise)
+            weights.append(1 / (k + 1))
         if draft.rounds[-1]["layer"] == "backend":
             break
     env.close()
@@ -102,7 +105,8 @@ def synthesize_certified(env_id: str, request: str, backend: ChatBackend,
             kept += [i for i, p in enumerate(promises) if passes(screen, candidate, p,
                                                                   SCREEN_EPISODES)]
             transcript["consensus"].append({"candidate": candidate.label, "keeps": kept})
-        ranked = sorted((f for f in found if f[1]), key=lambda f: (-len(f[1]), f[1][0]))
+        ranked = sorted((f for f in found if f[1]),
+                        key=lambda f: (-sum(weights[i] for i in f[1]), f[1][0]))
         for attempt, (candidate, kept) in enumerate(ranked[:ATTEMPTS]):
             promise = promises[kept[0]]
             if not confirm(promise):

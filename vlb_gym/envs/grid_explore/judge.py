@@ -98,6 +98,15 @@ class GridJudge(Judge):
         return len(self._goal_known) - 1 - self._goal_known.index(True)
 
     @helper
+    def moves_after_goal(self) -> list[Cell]:
+        """The target cells of the navigate steps the behavior ran after the step that first
+        revealed a goal, in order (empty if no goal is known)."""
+        after = self.steps_after_goal()
+        if after <= 0:
+            return []
+        return [cell for name, cell in self._steps[-after:] if name == "navigate"]
+
+    @helper
     def is_goal(self, cell: Cell) -> bool:
         """Whether ``cell`` truly holds a goal."""
         return bool(self._truth[cell_index(cell, self.size, "is_goal")] == GOAL)
