@@ -3,11 +3,14 @@
     python benchmarks/synthesis_eval.py --model-path qwen2.5-coder-1.5b-instruct-q4_k_m.gguf \
         [--model-path another.gguf] [--samples 1] [--tasks FILE.py] [--only NAME ...] \
         [--out benchmarks/results/synthesis]
+    python benchmarks/synthesis_eval.py --base-url http://127.0.0.1:11434 --model qwen2.5-coder \
+        [--structured-output auto] ...
     python benchmarks/synthesis_eval.py --tasks FILE.py --list
     python benchmarks/synthesis_eval.py --replay benchmarks/results/synthesis [--out DIR]
 
 For every model, task and sample, the pipeline of :mod:`vlb_gym.abstractor.certified` runs with
-the local backend (the model writes the promise, accepted as ``--yes`` would; a search finds a
+the local backend (or the served model, with the same temperature, seed, token limit and
+redraws) (the model writes the promise, accepted as ``--yes`` would; a search finds a
 behavior that keeps it and certifies it on fresh seeds). Each certified behavior is then run
 again on its certification episodes by :func:`benchmarks.synthesis_tasks.evaluate`, which also
 applies the task's own check (from the ground truth). Columns:
@@ -86,13 +89,15 @@ class Sample:
         return self.certified and self.faithful == self.judged
 
 
-def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: Path) -> Sample:
+def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: Path,
+            budgets: list[int] | None = None) -> Sample:
     """Run the pipeline for ``task`` once, save its transcript (and behavior), and check a
-    certified behavior against the task on its certification episodes."""
+    certified behavior against the task on its certification episodes (``budgets``: see
+    :func:`~vlb_gym.abstractor.certified.synthesize_certified`)."""
     stem = folder / f"{task.name}-{sample}"
-    started = time.perf_counter()
-    got = synthesize_certified(ENV_ID, task.description, backend, name=task.name)
-    seconds = round(time.perf_counter() - started, 1)
+    got = synthesize_certified(ENV_ID, task.description, backend, name=task.name,
+                               budgets=budgets)
+    seconds = got.transcript["seconds"]  # the pipeline's wall time, as the transcript says
     got.transcript["task"] = task.name
     write_atomic(stem.with_suffix(".transcript.json"), json.dumps(got.transcript, indent=2) + "\n")
     drafts = got.transcript["drafts"]
@@ -117,13 +122,28 @@ def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: P
     return record
 
 
-def run_models(args: argparse.Namespace, tasks: list[Task]) -> list[Sample]:
+def backends(args: argparse.Namespace) -> list[tuple[str, ChatBackend]]:
+    """(name, backend) of every model asked for: GGUF files in-process, or a served model."""
+    if args.base_url:
+        from vlb_gym.abstractor.backends import OpenAICompatibleBackend
+
+        if not args.model:
+            sys.exit("--base-url needs --model NAME")
+        try:
+            served = OpenAICompatibleBackend(args.base_url, args.model,
+                                             structured_output=args.structured_output,
+                                             timeout=args.timeout, max_tokens=args.max_tokens)
+        except ValueError as exc:
+            sys.exit(f"--base-url: {exc}")
+        return [("".join(c if c.isalnum() or c in "-._" else "_" for c in args.model), served)]
     from vlb_gym.abstractor.local import LocalBackend
 
+    return [(Path(p).stem, LocalBackend(p, max_tokens=args.max_tokens)) for p in args.model_path]
+
+
+def run_models(args: argparse.Namespace, tasks: list[Task]) -> list[Sample]:
     samples = []
-    for model_path in args.model_path:
-        backend = LocalBackend(model_path, max_tokens=args.max_tokens)
-        model = Path(model_path).stem
+    for model, backend in backends(args):
         folder = args.out / model
         folder.mkdir(parents=True, exist_ok=True)
         for task in tasks:
@@ -139,8 +159,11 @@ def run_models(args: argparse.Namespace, tasks: list[Task]) -> list[Sample]:
     return samples
 
 
-def replay(folder: Path, tasks: list[Task]) -> list[Sample]:
-    """Re-run every saved transcript with its own replies; each must end as it did."""
+def replay(folder: Path, tasks: list[Task], cap: int | None = None) -> list[Sample]:
+    """Re-run every saved transcript with its own replies; each must end as it did. Each search
+    tries the candidates the live one tried (by count, not time, so on any machine); with
+    ``cap``, a search that found nothing tries only its first ``cap`` (a quicker check: the
+    rest of its order is then taken from the transcript)."""
     by_name = {task.name: task for task in tasks}
     samples, mismatches = [], []
     for path in sorted(folder.glob("*/*.transcript.json")):
@@ -149,9 +172,11 @@ def replay(folder: Path, tasks: list[Task]) -> list[Sample]:
         if task is None or "drafts" not in saved:
             continue
         sample = int(path.name.removesuffix(".transcript.json").rsplit("-", 1)[1])
+        budgets = [f["tried"] if f["candidate"] or cap is None else min(f["tried"], cap)
+                   for f in saved["finds"]]
         with tempfile.TemporaryDirectory() as scratch:
             record = attempt(task, TranscriptBackend.from_file(path), path.parent.name, sample,
-                             Path(scratch))
+                             Path(scratch), budgets)
             again = json.loads((Path(scratch) / path.name).read_text())
         if _outcomes(again) != _outcomes(saved):
             mismatches.append(path)
@@ -243,6 +268,13 @@ def main(argv: list[str] | None = None) -> None:
     source = parser.add_mutually_exclusive_group()
     source.add_argument("--model-path", action="append", metavar="FILE.gguf")
     source.add_argument("--replay", type=Path, metavar="DIR")
+    source.add_argument("--base-url", metavar="URL",
+                        help="a served model (OpenAI-compatible or Ollama), with --model")
+    parser.add_argument("--model", metavar="NAME", help="the served model's name")
+    parser.add_argument("--structured-output", default="auto", metavar="DIALECT",
+                        help="the server's dialect (see vlb synthesize --help; default auto)")
+    parser.add_argument("--timeout", type=float, default=900.0, metavar="SECONDS",
+                        help="seconds per request to a served model")
     parser.add_argument("--tasks", type=Path, metavar="FILE.py",
                         help="a task file defining TASKS (default: the shipped development set)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="run only these tasks")
@@ -256,8 +288,8 @@ def main(argv: list[str] | None = None) -> None:
         for task in tasks:
             print(f"{task.name}\t{task.difficulty}")
         return
-    if not (args.model_path or args.replay):
-        parser.error("one of --model-path or --replay is required (or --list)")
+    if not (args.model_path or args.replay or args.base_url):
+        parser.error("one of --model-path, --base-url or --replay is required (or --list)")
     if args.replay:
         args.out = args.out or Path(tempfile.mkdtemp(prefix="synthesis-replay-"))
     args.out = (args.out or REPOSITORY / "benchmarks" / "results" / "synthesis").resolve()

@@ -23,7 +23,9 @@ HARNESS = ROOT / "benchmarks" / "synthesis_eval.py"
 
 @pytest.fixture(scope="module")
 def replayed():
-    return replay(RESULTS, list(TASKS))  # exits if a transcript ends otherwise than it did
+    # exits if a transcript ends otherwise than it did; searches that found nothing are
+    # replayed over their first 200 candidates (the harness's --replay replays them in full)
+    return replay(RESULTS, list(TASKS), cap=200)
 
 
 def live_rows() -> dict[tuple[str, str, int], dict[str, str]]:
@@ -105,3 +107,19 @@ def test_the_held_out_tasks_are_satisfiable_and_their_checks_can_fail():
                         ("three_round_trips", "two_round_trips"),
                         ("fifteen_cells_home", "explore_all_return_home")]:
         assert evaluate(held_out[name], task_named(wrong).reference, 10).task_done == 0, name
+
+
+def test_the_harness_evaluates_a_served_model(tmp_path):
+    from .chat_server import ChatServer
+
+    promise = '{"description": "one sense, no move", "expr": "primitives() == [\'sense\']"}'
+    with ChatServer([("reply", promise)] * 4, dialect="openai") as server:
+        proc = harness("--base-url", server.url, "--model", "served/m", "--structured-output",
+                       "openai", "--only", "sense_once", "--out", str(tmp_path))
+    assert proc.returncode == 0, proc.stderr
+    with (tmp_path / "results.csv").open() as handle:
+        (row,) = list(csv.DictReader(handle))
+    assert (row["model"], row["task"], row["certified"], row["done"], row["faithful"]) == \
+        ("served_m", "sense_once", "True", "112", "112")
+    assert len(server.requests) == 4 and server.requests[0]["max_tokens"] == 400
+    assert (tmp_path / "served_m" / "sense_once-0.transcript.json").is_file()

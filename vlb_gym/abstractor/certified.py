@@ -25,8 +25,9 @@ tried and why none certified. The transcript records every request, reply, searc
 
 from __future__ import annotations
 
+import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -71,8 +72,13 @@ def synthesize_certified(env_id: str, request: str, backend: ChatBackend,
                          confirm: Callable[[Promise], bool] = lambda promise: True,
                          name: str = "synthesized", drafts: int = DRAFTS,
                          time_limit: float = 600.0,
-                         library: BehaviorLibrary | None = None) -> CertifiedSynthesis:
-    """Run the pipeline (see the module's docstring) for ``request`` on ``env_id``."""
+                         library: BehaviorLibrary | None = None,
+                         budgets: Sequence[int] | None = None) -> CertifiedSynthesis:
+    """Run the pipeline (see the module's docstring) for ``request`` on ``env_id``.
+
+    The searches share ``time_limit``; ``budgets`` instead bounds each search, in order, by a
+    number of candidates and not by time (a replay passes the counts a transcript recorded, so
+    that it tries the same candidates on any machine)."""
     started = time.perf_counter()
     env = make_primitive_env(env_id, {})
     interface = env.unwrapped
@@ -95,8 +101,12 @@ def synthesize_certified(env_id: str, request: str, backend: ChatBackend,
     try:
         found: list[tuple[Candidate, list[int]]] = []
         per_promise = time_limit / max(len(promises), 1) / 2
-        for promise in promises:
-            result = find(env_id, request, promise, screen, name, time_limit=per_promise)
+        for k, promise in enumerate(promises):
+            if budgets is None:
+                result = find(env_id, request, promise, screen, name, time_limit=per_promise)
+            else:
+                result = find(env_id, request, promise, screen, name, time_limit=math.inf,
+                              max_candidates=budgets[k] if k < len(budgets) else 0)
             transcript["finds"].append({"promise": promise.expr, **_find_record(result)})
             if result.candidate is not None and all(
                     c.key != result.candidate.key for c, _ in found):
