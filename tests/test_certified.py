@@ -218,3 +218,12 @@ def test_consensus_weighs_the_first_draft_most():
                          "explore until a goal is found": [1, 2]}
     assert got.certified and got.promise == HOME
     assert got.search.candidate.label == "explore until a goal is found -> go to the start"
+
+
+def test_cli_certify_refuses_the_graph_first_options(tmp_path):
+    replies = tmp_path / "replies.json"
+    replies.write_text(json.dumps([reply(HOME)]))
+    proc = vlb("synthesize", GRID_ID, REQUEST, "--certify", "--yes", "--scripted", str(replies),
+               "--verify", "10", "--out", str(tmp_path / "x.json"))
+    assert proc.returncode == 2 and "--certify: --verify" in proc.stderr
+    assert not (tmp_path / "x.json").exists()

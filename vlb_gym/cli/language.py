@@ -134,6 +134,9 @@ def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> 
     from vlb_gym.core.spec import spec_from_data
     from vlb_gym.verify.bounds import floor_str
 
+    if args.verify or args.uses or args.info:
+        raise UsageError("--certify: --verify, --uses and --info are for the graph-first "
+                         "synthesis (--certify certifies on fresh seeds, from its own search)")
     if args.env_id not in SPACES:
         raise UsageError(f"--certify: {args.env_id} has no search space (it has: "
                          f"{', '.join(SPACES)})")
