@@ -119,6 +119,15 @@ def test_a_bad_promise_reply_is_refused_with_its_layer(interface, text, layer):
     assert err.value.layer == layer
 
 
+def test_a_reply_that_would_write_to_the_terminal_is_refused_in_one_line(interface):
+    with pytest.raises(BehaviorSpecError) as err:
+        parse_promise('{"description": "\\u001b]0;owned\\u0007ok", "expr": "goal_found()"}',
+                      interface)
+    assert str(err.value) == ("the reply: promise.description: Value error, character U+001B at "
+                              "position 1 is not printable; text here is one line of printable "
+                              "characters")
+
+
 def test_a_rejected_draft_is_asked_again_out_of_the_conversation(interface):
     backend = ScriptedBackend(['{"description": "d", "expr": "home == 1"}', reply(HOME)])
     draft = draft_promise(REQUEST, interface, backend, max_rounds=2)

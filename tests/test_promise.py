@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+import re
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -9,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vlb_gym import BehaviorSpecError
+from vlb_gym.cli import main
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.promise import Episode
 from vlb_gym.core.runtime import BehaviorPolicy
@@ -65,6 +69,61 @@ def test_promises_over_the_behaviors_own_state_or_nothing_are_refused(grid_env, 
         behavior(grid_env, promise, doc)
     assert words in str(err.value)
     assert err.value.layer == "expressions"
+
+
+@pytest.mark.parametrize("promise, words", [
+    ("start_cell()", "'start_cell()' is a tuple, not true or false"),
+    ("len(moves())", "is a int, not true or false"),
+    ("known_cells() > 3", "known_cells() (list) and 3 (int) have no order"),
+    ("sum(moves()) > 0", "sum() adds numbers; moves() is a list of tuple"),
+    ("final_cell() >= None", "None is None, which has no order"),
+    ("len([a for a in moves() for b in moves() for c in moves() for d in moves()]) > 0",
+     "more than 3 comprehension loops"),
+    ("(" * 300 + "goal_found()" + ")" * 300, "too many nested parentheses"),
+    ("moves()[10**9] == start_cell()", "forbidden syntax: Pow"),
+    ("str(moves()) == ''", "'str', which is not a whitelisted function"),
+    ("goal_found().__class__ == 1", "forbidden"),
+])
+def test_promises_that_cannot_be_right_are_refused_before_running(grid_env, promise, words):
+    with pytest.raises(BehaviorSpecError, match="promise.expr") as err:
+        behavior(grid_env, promise)
+    assert words in str(err.value)
+
+
+def test_an_expensive_promise_fails_its_budget_not_the_machine(grid_env):
+    policy = behavior(grid_env, "len([a for a in reachable_cells() for b in reachable_cells() "
+                                "for c in reachable_cells() if a != b]) > 0")
+    result = run_episode(grid_env, policy, 0)
+    assert not result.success and "EvaluationLimitError" in result.reason
+    assert result.cause == "sense_once: promise"
+
+
+@pytest.mark.parametrize("field, value, words", [
+    ("description", "\x1b[2J\x1b]0;owned\x07 fine", "character U+001B at position 1"),
+    ("description", "two\nlines", "character U+000A at position 4"),
+    ("description", "right\u202eto left", "character U+202E at position 6"),
+    ("description", "x" * 501, "at most 500 characters"),
+    ("expr", "", "at least 1 character"),
+    ("expr", 5, "valid string"),
+    ("extra", 1, "Extra inputs are not permitted"),
+])
+def test_a_promise_field_that_is_not_printable_bounded_text_is_refused(field, value, words):
+    promise = {"expr": "goal_found()", "description": "fine", field: value}
+    with pytest.raises(BehaviorSpecError) as err:
+        spec_from_data({**SENSE_ONCE, "promise": promise}, "b.json")
+    assert str(err.value).startswith(f"b.json: promise.{field}: ") and words in str(err.value)
+    assert err.value.layer == "schema" and "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("place", ["description", "env", "nodes[0].description"])
+def test_every_text_a_terminal_shows_is_one_printable_line(place):
+    doc = json.loads(json.dumps(SENSE_ONCE))
+    if place.startswith("nodes"):
+        doc["nodes"][0]["description"] = "ok\x1b[31m"
+    else:
+        doc[place] = "ok\x1b[31m"
+    with pytest.raises(BehaviorSpecError, match=rf"^b.json: {re.escape(place)}: .*U\+001B"):
+        spec_from_data(doc, "b.json")
 
 
 def test_a_sub_behaviors_promise_is_its_nodes_certificate(grid_env, user_library):
@@ -173,3 +232,18 @@ def test_scoop_judge_sums_what_the_scoops_measured():
     judge.bind(Episode(None, steps, {}))
     assert (judge.scoops(), judge.delivered(), judge.spilled()) == (2, 3.5, 0.25)
     assert judge.summary() == "2 scoop(s), 3.5 g delivered, 0.2 g spilled"
+
+
+@pytest.mark.parametrize("promise, words", [
+    ({"expr": "goal_found()", "description": "\x1b]0;owned\x07a goal is known"},
+     "promise.description: Value error, character U+001B at position 1"),
+    ({"expr": "known_cells() > 3"}, "promise.expr: known_cells() (list) and 3 (int)"),
+])
+def test_vlb_verify_refuses_a_hostile_promise_in_one_line(tmp_path, capsys, promise, words):
+    path = tmp_path / "hostile.json"
+    path.write_text(json.dumps({**SENSE_ONCE, "promise": promise}))
+    assert main(["verify", "VLB-GridExplore-v0", "--behavior", str(path), "--episodes", "3",
+                 "--epsilon", "0.1", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "\x1b" not in err and "Traceback" not in err
+    assert f"{path}: {words}" in err

@@ -70,6 +70,11 @@ def compile_doc(doc: dict, env: gym.Env):
     ("label('a', 'b') == 'goal'", "label() takes 1 argument(s), 2 given"),
     ("len(adjacent(current_cell(), 1)) > 0", "adjacent() takes 0 to 1 argument(s), 2 given"),
     ("len() > 0", "len() takes 1 argument(s), 0 given"),
+    ("explored() > 3", "explored() (list) and 3 (int) have no order (column 1)"),
+    ("current_cell() <= len(explored())",
+     "current_cell() (tuple) and len(explored()) (int) have no order"),
+    ("goal_cell() > None", "None is None, which has no order"),
+    ("sum(explored()) > 0", "sum() adds numbers; explored() is a list of tuple (column 1)"),
 ])
 def test_refusals_name_the_place_and_say_why(grid_env, text, message):
     with pytest.raises(BehaviorSpecError) as info:
@@ -96,6 +101,8 @@ def test_behavior_functions_carry_their_result_type(grid_env):
     "label(goal_cell()) == 'goal'", "label([0, 1]) == 'empty'",
     "label(current_cell()) == label(goal_cell())", "not goal_found()",
     "label(current_cell())[0] == 'g'", "sorted([label(c) for c in explored()])[0] == 'goal'",
+    "current_cell() < (3, 4)", "len(explored()) >= 2.5 > True", "sum(current_cell()) > 3",
+    "sum([len(adjacent(c)) for c in explored()]) > 3", "explored() < adjacent()",
 ])
 def test_what_can_be_right_is_accepted(text):
     check(text, GRID, "here")

@@ -22,7 +22,7 @@ from typing import Any
 
 from vlb_gym.core.env import PrimitiveEnv
 from vlb_gym.core.promise import check_promise
-from vlb_gym.core.spec import BehaviorSpecError, Promise
+from vlb_gym.core.spec import BehaviorSpecError, Promise, validated
 
 from .backends import BackendError, ChatBackend, Message
 from .grammar import promise_schema
@@ -123,10 +123,9 @@ def parse_promise(reply: str, interface: PrimitiveEnv) -> Promise:
             or not isinstance(data.get("description", ""), str):
         raise BehaviorSpecError('the reply is not {"description": TEXT, "expr": EXPRESSION}',
                                 "schema")
-    try:
-        promise = Promise(expr=data["expr"], description=data.get("description", ""))
-    except ValueError as exc:
-        raise BehaviorSpecError(f"promise: {exc}", "schema") from None
+    promise = validated(Promise, {"expr": data["expr"],
+                                  "description": data.get("description", "")},
+                        "the reply", "promise")
     check_promise(promise.expr, interface, "promise")
     return promise
 

@@ -90,9 +90,12 @@ def check_promise(text: str, interface: PrimitiveEnv, where: str = "promise",
                 f"{', '.join(sorted(helpers))}) and builtins", "expressions") from None
         raise BehaviorSpecError(str(exc), "expressions") from None
     try:
-        typecheck(text, {**BUILTIN_SIGNATURES, **helper_signatures(helpers)}, where)
+        kind = typecheck(text, {**BUILTIN_SIGNATURES, **helper_signatures(helpers)}, where)
     except ExpressionError as exc:
         raise BehaviorSpecError(str(exc), "expressions") from None
+    if kind is not None and kind.kind != "bool":
+        raise BehaviorSpecError(f"{where}: {text!r} is a {kind.describe()}, not true or false; "
+                                "a promise is a condition (e.g. a comparison)", "expressions")
     if not expression.names & set(helpers):
         raise BehaviorSpecError(f"{where}: {text!r} calls no outcome helper, so it holds or "
                                 "fails whatever the behavior does and proves nothing; use "

@@ -24,15 +24,38 @@ names only the environment's outcome helpers, never the behavior's own variables
 from __future__ import annotations
 
 import json
+import unicodedata
 from pathlib import Path
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, StringConstraints, ValidationError, model_validator
+from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, StringConstraints,
+                      ValidationError, model_validator)
 
 from .files import InputFileError, load_json
 
 Identifier = Annotated[str, StringConstraints(pattern=r"^[A-Za-z][A-Za-z0-9_]*$", max_length=64)]
 ExpressionText = Annotated[str, StringConstraints(min_length=1, max_length=2000)]
+
+_UNPRINTABLE = ("Cc", "Cf", "Zl", "Zp")  # controls, format (bidi overrides), line breaks
+
+
+def _one_line(text: str) -> str:
+    """``text`` if it is one line of printable text: what a terminal shows as written."""
+    for at, char in enumerate(text, 1):
+        if unicodedata.category(char) in _UNPRINTABLE:
+            raise ValueError(f"character U+{ord(char):04X} at position {at} is not printable; "
+                             "text here is one line of printable characters")
+    return text
+
+
+def text(max_length: int, min_length: int | None = None) -> Any:
+    """The type of a description or name shown to people: one printable line, bounded."""
+    return Annotated[str, StringConstraints(min_length=min_length, max_length=max_length),
+                     AfterValidator(_one_line),
+                     Field(json_schema_extra={"pattern": "^[^\\u0000-\\u001f\\u007f-\\u009f]*$"})]
+
+
+Description = text(2000)
 
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schema" / "behavior.schema.json"
 
@@ -59,8 +82,8 @@ class Node(_Model):
 
     id: Identifier
     primitive: Identifier | None = None
-    behavior: str | None = Field(None, min_length=1, max_length=500)
-    description: str = ""
+    behavior: text(500, min_length=1) | None = None
+    description: Description = ""
 
     @model_validator(mode="after")
     def _one_kind(self) -> "Node":
@@ -77,7 +100,7 @@ class Edge(_Model):
     guard: ExpressionText = "True"
     param: ExpressionText | None = None
     set: dict[Identifier, ExpressionText] = Field(default_factory=dict)
-    description: str = ""
+    description: Description = ""
 
 
 class Start(_Model):
@@ -92,7 +115,7 @@ class Function(_Model):
 
     args: list[Identifier] = Field(default_factory=list, max_length=8)
     expr: ExpressionText
-    description: str = ""
+    description: Description = ""
 
 
 class Promise(_Model):
@@ -100,15 +123,15 @@ class Promise(_Model):
     helpers (the final state and the steps the behavior ran), and the same in plain words."""
 
     expr: ExpressionText
-    description: str = Field("", max_length=500)
+    description: text(500) = ""
 
 
 class BehaviorSpec(_Model):
     """A whole behavior file."""
 
     name: Identifier
-    description: str = ""
-    env: str | None = Field(None, description="environment id the behavior is written for")
+    description: Description = ""
+    env: text(200) | None = Field(None, description="environment id the behavior is written for")
     variables: dict[Identifier, ExpressionText] = Field(default_factory=dict,
                                                         max_length=MAX_VARIABLES)
     functions: dict[Identifier, Function] = Field(default_factory=dict, max_length=MAX_FUNCTIONS)
@@ -142,12 +165,18 @@ def parse_spec(text: str | bytes, source: str = "<behavior>") -> BehaviorSpec:
 
 def spec_from_data(data: Any, source: str = "<behavior>") -> BehaviorSpec:
     """Schema-check an already decoded behavior document."""
+    return validated(BehaviorSpec, data, source)
+
+
+def validated(model: type[_Model], data: Any, source: str, prefix: str = "") -> Any:
+    """``data`` as a ``model``; BehaviorSpecError (layer schema) naming ``source`` and each
+    place (after ``prefix``) if it is not one."""
     try:
-        return BehaviorSpec.model_validate(data)
+        return model.model_validate(data)
     except ValidationError as exc:
         errors = exc.errors()
-        lines = [f"{source}: {_place(err['loc'])}: {err['msg']}"
-                 for err in errors[:MAX_ERRORS_SHOWN]]
+        lines = [f"{source}: {_place((prefix, *err['loc']) if prefix else err['loc'])}: "
+                 f"{err['msg']}" for err in errors[:MAX_ERRORS_SHOWN]]
         if len(errors) > MAX_ERRORS_SHOWN:
             lines.append(f"{source}: ... and {len(errors) - MAX_ERRORS_SHOWN} more problems")
         raise BehaviorSpecError("\n".join(lines), "schema") from None

@@ -10,7 +10,10 @@ expression -- int, float, bool, None, str (with its possible values when known),
   testing it for equality/membership with a string outside the set (``label(c) == 'wall'``);
 * calling a helper or builtin with a number of arguments it cannot take;
 * passing a helper an argument of an obviously wrong type (a number where it takes a cell, a
-  string where it takes a number, ...).
+  string where it takes a number, ...);
+* ordering values that have no order between them (``known_cells() > 3``, a cell against a
+  number, anything against None);
+* summing a list of what is not a number (``sum(moves())``, a list of cells).
 
 Whatever it cannot infer is *unknown* and accepted: behavior variables (``set`` may change them)
 and function arguments are unknown, unions (``Cell | None``) are unknown, and so is any
@@ -313,6 +316,11 @@ class _Inference:
                                     f"given {arg.describe()} {ast.unparse(arg_node)}")
         if sig.returns is not None:
             return sig.returns
+        first = args[0] if args else None
+        if name == "sum" and first is not None and first.kind == "list" \
+                and first.item is not None and first.item.kind not in _NUMBERS:
+            self.fail(node, f"sum() adds numbers; {ast.unparse(node.args[0])} is a list of "
+                            f"{first.item.describe()}")
         return self._builtin(name, args)
 
     @staticmethod
@@ -331,6 +339,7 @@ class _Inference:
             return out
         if name == "abs" and first is not None and first.kind in ("int", "float"):
             return first
+
         if name == "round" and len(args) == 1:
             return INT
         return Unknown
@@ -345,7 +354,21 @@ class _Inference:
             else:
                 self._compare(ln, lt, rn, rt, isinstance(op, (ast.Eq, ast.NotEq)))
                 self._compare(rn, rt, ln, lt, isinstance(op, (ast.Eq, ast.NotEq)))
+                if isinstance(op, (ast.Lt, ast.LtE, ast.Gt, ast.GtE)):
+                    self._order(node, ln, lt, rn, rt)
         return BOOL
+
+    def _order(self, node: ast.Compare, left: ast.expr, lt: Type | None, right: ast.expr,
+               rt: Type | None) -> None:
+        """``<``-like comparisons hold only between numbers, or values of one sequence kind."""
+        for side, t in ((left, lt), (right, rt)):
+            if t is not None and t.kind == "none":
+                self.fail(node, f"{ast.unparse(side)} is None, which has no order")
+        group = {k: "number" for k in _NUMBERS}
+        if lt is not None and rt is not None and \
+                group.get(lt.kind, lt.kind) != group.get(rt.kind, rt.kind):
+            self.fail(node, f"{ast.unparse(left)} ({lt.describe()}) and {ast.unparse(right)} "
+                            f"({rt.describe()}) have no order")
 
     def _closed(self, node: ast.expr, t: Type | None) -> str | None:
         """How to say that ``node`` is one of a closed set of strings, or None if it is not."""
