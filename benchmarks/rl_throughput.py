@@ -35,7 +35,7 @@ SETUPS = (("flat", 0.0), ("image", 0.0), ("image", 0.02))
 
 def steps_per_second(task: str, observation: str, bonus: float, steps: int, seed: int) -> float:
     config = TASKS[task]
-    env = make_env(config.env_id, config.env_kwargs, observation, bonus)
+    env = make_env(config.task_id, config.env_kwargs, observation, bonus)
     rng = np.random.default_rng(seed)
     env.reset(seed=seed)
     started = time.perf_counter()

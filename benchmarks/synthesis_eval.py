@@ -125,7 +125,7 @@ def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: P
 def backends(args: argparse.Namespace) -> list[tuple[str, ChatBackend]]:
     """(name, backend) of every model asked for: GGUF files in-process, or a served model."""
     if args.base_url:
-        from vlb_gym.abstractor.backends import OpenAICompatibleBackend
+        from vlb_gym.abstractor.served import OpenAICompatibleBackend
 
         if not args.model:
             sys.exit("--base-url needs --model NAME")

@@ -10,8 +10,8 @@ import gymnasium as gym
 import pytest
 
 from vlb_gym import load_behavior
-from vlb_gym.abstractor.backends import (BackendError, OpenAICompatibleBackend, ScriptedBackend,
-                                         TranscriptBackend)
+from vlb_gym.abstractor.backends import BackendError, ScriptedBackend, TranscriptBackend
+from vlb_gym.abstractor.served import OpenAICompatibleBackend
 from vlb_gym.abstractor.prompt import PromptContext, build_messages, request_schema
 from vlb_gym.abstractor.synthesize import SynthesisError, save, synthesize
 from vlb_gym.cli import main

@@ -15,23 +15,28 @@ from vlb_gym.baselines.configs import TASKS
 from vlb_gym.baselines.train import make_env, train
 from vlb_gym.baselines.wrappers import ActionMasks, FlatActions
 from vlb_gym.cli import main
-from vlb_gym.baselines.tasks import LEGS
+from vlb_gym.baselines.configs import TASK_IDS
+from vlb_gym.baselines.tasks import LEGS, GridTask
+from vlb_gym.baselines.train import policy_env_kwargs
+from vlb_gym.envs.grid_explore import GridExploreEnv
+from vlb_gym.envs.modules import EnvSetupError, make_primitive_env
 from vlb_gym.verify import Campaign, CampaignConfig, PolicyRef, run_campaign, run_episode
 
 GRID = "VLB-GridExplore-v0"
+FIND_GOAL = TASK_IDS["find_goal"]
 
 
 @pytest.mark.parametrize("task", sorted(TASKS))
 def test_sb3_check_env_accepts_every_task(task):
     from stable_baselines3.common.env_checker import check_env
 
-    check_env(gym.make(GRID, **TASKS[task].env_kwargs))
-    check_env(make_env(GRID, TASKS[task].env_kwargs))
+    check_env(gym.make(TASKS[task].task_id, **TASKS[task].env_kwargs))
+    check_env(make_env(TASKS[task].task_id, TASKS[task].env_kwargs))
 
 
 @pytest.mark.parametrize("seed", range(6))
 def test_flat_actions_and_masks_match_admissibility(seed):
-    flat = FlatActions(gym.make(GRID, task="find_goal", size=6 + seed, n_obstacles=4 * seed))
+    flat = FlatActions(gym.make(FIND_GOAL, size=6 + seed, n_obstacles=4 * seed))
     env = ActionMasks(flat)
     env.reset(seed=seed)
     base, n = env.unwrapped, flat.action_space.n
@@ -49,7 +54,7 @@ def test_flat_actions_and_masks_match_admissibility(seed):
 @pytest.mark.parametrize("task, behavior", [("find_goal", "explore_until_goal"),
                                             ("find_goal_and_oscillate", "find_goal_and_oscillate")])
 def test_tasks_terminate_when_the_graph_finishes(task, behavior):
-    env = RobustnessWrapper(gym.make(GRID, task=task))
+    env = RobustnessWrapper(gym.make(TASK_IDS[task]))
     policy = load_behavior(behavior, env)
     for seed in range(10):
         rewards = []
@@ -63,7 +68,7 @@ def test_tasks_terminate_when_the_graph_finishes(task, behavior):
 
 
 def test_task_rewards_follow_the_documented_scheme():
-    env = gym.make(GRID, task="find_goal_and_oscillate")
+    env = gym.make(TASK_IDS["find_goal_and_oscillate"])
     policy = load_behavior("find_goal_and_oscillate", RobustnessWrapper(env))
     obs, _ = env.reset(seed=3)
     total, steps = 0.0, 0
@@ -79,7 +84,29 @@ def test_task_rewards_follow_the_documented_scheme():
 
 def test_unknown_task_is_rejected():
     with pytest.raises(ValueError, match="task='explore' is not one of"):
-        gym.make(GRID, task="explore")
+        GridTask(gym.make(GRID), "explore")
+
+
+def test_the_env_has_no_task_kwarg_and_the_tasks_are_ids_of_their_own():
+    with pytest.raises(EnvSetupError, match="task"):  # no kwarg changes what finished means
+        make_primitive_env(GRID, {"task": "find_goal"})
+    for task, env_id in TASK_IDS.items():
+        env = gym.make(env_id)
+        assert isinstance(env.unwrapped, GridExploreEnv) and env.get_wrapper_attr("task") == task
+    assert not isinstance(gym.make(GRID).env, GridTask)
+
+
+def test_an_agent_saved_with_a_task_kwarg_loads_on_the_tasks_id(tmp_path):
+    saved = train(TASKS["find_goal"], "ppo", tmp_path, budgets=(128,), n_envs=1)[0]
+    meta_path = saved.with_suffix(".json")
+    meta = json.loads(meta_path.read_text())
+    assert meta["env_id"] == FIND_GOAL and "task" not in meta["env_kwargs"]
+    meta_path.write_text(json.dumps({**meta, "env_id": GRID,
+                                     "env_kwargs": {**meta["env_kwargs"], "task": "find_goal"}}))
+    assert policy_env_kwargs(saved) == (FIND_GOAL, meta["env_kwargs"])
+    meta_path.write_text(json.dumps({**meta, "env_kwargs": {"task": "explore"}}))
+    with pytest.raises(ValueError, match=r"env_kwargs.task: unknown task 'explore'"):
+        policy_env_kwargs(saved)
 
 
 @pytest.mark.parametrize("algorithm", ["ppo", "maskable_ppo", "a2c"])
@@ -88,7 +115,7 @@ def test_train_save_load_verify_round_trip(algorithm, tmp_path):
     assert len(saved) == 1 and saved[0].exists()
     meta = json.loads(saved[0].with_suffix(".json").read_text())
     assert meta["algorithm"] == algorithm and meta["steps"] >= 256
-    config = CampaignConfig(GRID, PolicyRef("sb3", str(saved[0])), 12, seed=5)
+    config = CampaignConfig(FIND_GOAL, PolicyRef("sb3", str(saved[0])), 12, seed=5)
     with Campaign(config) as campaign:  # the agent's training env kwargs apply
         assert campaign.config.env_kwargs == meta["env_kwargs"]
         results = sorted(campaign.episodes(), key=lambda r: r.index)
@@ -103,15 +130,15 @@ def test_train_save_load_verify_round_trip(algorithm, tmp_path):
 
 def test_cli_verify_policy_and_mismatch(tmp_path, capsys):
     saved = train(TASKS["find_goal"], "ppo", tmp_path, budgets=(128,), n_envs=1)[0]
-    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "5", "--epsilon", "0.1",
-                 "--report", str(tmp_path / "r.json")]) == 0
+    assert main(["verify", FIND_GOAL, "--policy", str(saved), "--episodes", "5",
+                 "--epsilon", "0.1", "--report", str(tmp_path / "r.json")]) == 0
     report = json.loads((tmp_path / "r.json").read_text())
     assert report["policy"] == {"kind": "sb3", "ref": str(saved.resolve()), "library": None}
     assert report["episodes"] == 5
-    assert report["env_kwargs"]["task"] == "find_goal"
+    assert report["env_id"] == FIND_GOAL and "task" not in report["env_kwargs"]
     assert main(["verify", "VLB-Scoop-v0", "--policy", str(saved), "--episodes", "5",
                  "--epsilon", "0.1"]) == 2
-    assert "was trained on VLB-GridExplore-v0" in capsys.readouterr().err
+    assert f"was trained on {FIND_GOAL}" in capsys.readouterr().err
     assert main(["verify", GRID, "--policy", str(tmp_path / "none.zip"), "--episodes", "5",
                  "--epsilon", "0.1"]) == 2
 
@@ -127,13 +154,13 @@ def test_an_image_agent_with_the_bonus_round_trips_through_the_cli(task, tmp_pat
     saved = tmp_path / f"{task}_maskable_ppo-image-bonus0p02-s3_128.zip"
     meta = json.loads(saved.with_suffix(".json").read_text())
     assert (meta["observation"], meta["bonus"], meta["seed"]) == ("image", 0.02, 3)
-    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
-                 "--report", str(tmp_path / "r.json")]) == 0
+    assert main(["verify", TASKS[task].task_id, "--policy", str(saved), "--episodes", "4",
+                 "--epsilon", "0.1", "--report", str(tmp_path / "r.json")]) == 0
     assert json.loads((tmp_path / "r.json").read_text())["episodes"] == 4
 
     from vlb_gym.baselines.train import SB3Policy
-    trained = make_env(GRID, TASKS[task].env_kwargs, "image", 0.02)
-    plain = gym.make(GRID, **TASKS[task].env_kwargs)
+    trained = make_env(TASKS[task].task_id, TASKS[task].env_kwargs, "image", 0.02)
+    plain = gym.make(TASKS[task].task_id, **TASKS[task].env_kwargs)
     policy = SB3Policy(saved, plain)
     for seed in range(2):
         image, _ = trained.reset(seed=seed)
@@ -163,15 +190,15 @@ def test_bad_representation_options_are_usage_errors(args, message, capsys):
 def test_policy_campaigns_replay(tmp_path, capsys):
     """A --policy campaign's replay hint names --policy, and its stored episodes replay."""
     saved = train(TASKS["find_goal"], "ppo", tmp_path, budgets=(128,), n_envs=1)[0]
-    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
+    assert main(["verify", FIND_GOAL, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
                  "--quiet"]) == 0
     out = capsys.readouterr().out
-    assert "replay one: vlb replay VLB-GridExplore-v0 --policy " in out
+    assert f"replay one: vlb replay {FIND_GOAL} --policy " in out
     hint = shlex.split(out.split("replay one: ")[1].splitlines()[0])
     assert main(hint[1:]) == 0
     assert "rho_B = -1" in capsys.readouterr().out  # untrained: fails, as the campaign said
     store = tmp_path / "agent.db"
-    assert main(["verify", GRID, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
+    assert main(["verify", FIND_GOAL, "--policy", str(saved), "--episodes", "4", "--epsilon", "0.1",
                  "--quiet", "--store", str(store)]) == 0
     capsys.readouterr()
     assert main(["replay", str(store), "--episode", "2"]) == 2  # the store names a pickle
@@ -264,7 +291,7 @@ def test_a_sampled_agent_draws_from_its_distribution_seeded_per_episode(tmp_path
 
     saved = train(TASKS["find_goal"], "maskable_ppo", tmp_path, budgets=(128,), n_envs=1,
                   observation="spatial")[0]
-    env = gym.make(GRID, **TASKS["find_goal"].env_kwargs)
+    env = gym.make(FIND_GOAL, **TASKS["find_goal"].env_kwargs)
     policy = SB3Policy(saved, env, sample=True)
     obs, _ = env.reset(seed=4)
     policy.reset(seed=11)
@@ -292,7 +319,7 @@ def test_a_sampled_agent_draws_from_its_distribution_seeded_per_episode(tmp_path
 def test_a_sampled_campaign_replays_from_its_store_and_its_hint(tmp_path, capsys):
     saved = train(TASKS["find_goal"], "maskable_ppo", tmp_path, budgets=(128,), n_envs=1,
                   observation="spatial")[0]
-    assert main(["verify", GRID, "--policy", str(saved), "--sample", "--episodes", "6",
+    assert main(["verify", FIND_GOAL, "--policy", str(saved), "--sample", "--episodes", "6",
                  "--epsilon", "0.1", "--report", str(tmp_path / "r.json")]) == 0
     out = capsys.readouterr().out
     report = json.loads((tmp_path / "r.json").read_text())
@@ -303,7 +330,7 @@ def test_a_sampled_campaign_replays_from_its_store_and_its_hint(tmp_path, capsys
         assert main(hint[1:]) == 0
         assert "rho_B = -1" in capsys.readouterr().out
     store = tmp_path / "sampled.db"
-    assert main(["verify", GRID, "--policy", str(saved), "--sample", "--episodes", "6",
+    assert main(["verify", FIND_GOAL, "--policy", str(saved), "--sample", "--episodes", "6",
                  "--epsilon", "0.1", "--store", str(store), "--quiet"]) == 0
     capsys.readouterr()
     assert main(["replay", str(store), "--episode", "3", "--policy", str(saved)]) == 0
@@ -324,7 +351,7 @@ def test_the_random_floor_draws_uniformly_among_admissible_actions():
     from vlb_gym.baselines.random_policy import RandomLoader
     from vlb_gym.baselines.wrappers import admissible_actions
 
-    env = gym.make(GRID, task="find_goal")
+    env = gym.make(FIND_GOAL)
     policy = RandomLoader().load(PolicyRef("random", "admissible"), env)
     env.reset(seed=2)
     policy.reset(seed=9)
@@ -340,6 +367,6 @@ def test_the_random_floor_draws_uniformly_among_admissible_actions():
     assert again == draws
     with pytest.raises(ValueError, match="unknown random policy 'uniform'"):
         RandomLoader().load(PolicyRef("random", "uniform"), env)
-    report = run_campaign(CampaignConfig(GRID, PolicyRef("random", "admissible"), 20, seed=1,
+    report = run_campaign(CampaignConfig(FIND_GOAL, PolicyRef("random", "admissible"), 20, seed=1,
                                          env_kwargs=TASKS["find_goal"].env_kwargs))
     assert report["episodes"] == 20 and report["mean_primitives"] > 19  # the graph needs 19

@@ -81,6 +81,8 @@ class SenseForever:
 
 
 class SenseLoader:
+    runs_code = False
+
     def load(self, ref, env):
         return SenseForever()
 

@@ -10,6 +10,8 @@ import sys
 import pytest
 
 from vlb_gym.cli import main
+from vlb_gym.core.library import BehaviorLibrary
+from vlb_gym.core.spec import spec_from_data
 from vlb_gym.verify.export import read_export
 
 from .conftest import EXAMPLES
@@ -110,8 +112,15 @@ def test_plan(eps, conf, k, capsys):
 
 def test_behaviors_listing_and_graph(capsys):
     assert main(["behaviors"]) == 0
-    assert capsys.readouterr().out.split() == ["explore_until_goal", "find_goal_and_oscillate",
-                                               "scoop_repeatedly"]
+    assert [line.split() for line in capsys.readouterr().out.splitlines()] == [
+        ["explore_until_goal", "shipped"], ["find_goal_and_oscillate", "shipped"],
+        ["scoop_repeatedly", "shipped"]]
+    library = BehaviorLibrary()
+    library.save(spec_from_data({**json.loads((EXAMPLES / "fixed_cell.json").read_text()),
+                                 "name": "mine"}))
+    assert main(["behaviors"]) == 0
+    assert f"mine                     yours: {library.directory / 'mine'}.json" in \
+        capsys.readouterr().out.splitlines()
     assert main(["behaviors", "find_goal_and_oscillate"]) == 0
     out = capsys.readouterr().out
     assert "node explore: behavior explore_until_goal [start]" in out

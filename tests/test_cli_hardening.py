@@ -443,7 +443,7 @@ def campaign_report(n: int, failures: int, epsilon: float = 0.05, delta: float =
         plan = campaign.plan
     results = [EpisodeResult(i, i, -1 if i < failures else 1, True, 3, int(i < failures),
                              "x" if i < failures else None, 0.0) for i in range(n)]
-    return Report.fixed_n(plan, results, 1.0, 1)
+    return Report.build(plan, results, 1.0, 1)
 
 
 def test_printed_guarantees_never_claim_more_than_computed():

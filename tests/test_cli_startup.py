@@ -187,9 +187,14 @@ def test_every_argument_has_help_that_states_its_default():
         name = f"{p.prog} {'/'.join(action.option_strings) or action.metavar or action.dest}"
         assert action.help and action.help.strip(), f"{name}: no help"
         default = action.default
+        text = p._get_formatter()._expand_help(action)
+        assert text.count("default") <= 1 + action.help.count("default") - \
+            action.help.count("(default"), f"{name}: {text}"  # stated once
+        if action.nargs == 0:
+            assert "(default: " not in text, f"{name}: {text}"  # a flag's default is its absence
+            continue
         if default is None or default is False or default == []:
             continue
-        text = p._get_formatter()._expand_help(action)
         shown = default if isinstance(default, (list, tuple)) else [default]
         assert "(default: " in text and all(str(v) in text for v in shown), f"{name}: {text}"
         checked += 1
@@ -197,12 +202,14 @@ def test_every_argument_has_help_that_states_its_default():
 
 
 def test_help_states_no_empty_defaults(capsys):
-    for argv in (["verify", "--help"], ["synthesize", "--help"]):
+    for argv in (["verify", "--help"], ["synthesize", "--help"], ["report", "--help"],
+                 ["bench", "compare", "--help"]):
         with pytest.raises(SystemExit):
             main(argv)
         out = capsys.readouterr().out
         assert "default: None" not in out and "default: False" not in out
-        assert "default: []" not in out
+        assert "default: []" not in out and "default: True" not in out
+        assert "AgentSpec(" not in out  # defaults as they would be typed
 
 
 def test_behaviors_takes_the_env_from_the_behavior(capsys):

@@ -11,14 +11,10 @@ from pathlib import Path
 import gymnasium as gym
 import pytest
 
-from vlb_gym.abstractor.backends import (
-    AUTO_ORDER,
-    BackendError,
-    OpenAICompatibleBackend,
-    probe_reply_ok,
-    shape_rejected,
-)
-from vlb_gym.abstractor.grammar import MAX_GRAPH_ITEMS, MAX_STRING_LENGTH, request_schema
+from vlb_gym.abstractor.backends import BackendError
+from vlb_gym.abstractor.dialects import AUTO_ORDER, probe_reply_ok, shape_rejected
+from vlb_gym.abstractor.served import OpenAICompatibleBackend
+from vlb_gym.abstractor.grammar import MAX_GRAPH_ITEMS, MAX_STRING_LENGTH, grammar_schema
 from vlb_gym.abstractor.paper import PAPER, PROMPTS
 from vlb_gym.abstractor.validate import validate_reply
 from vlb_gym.cli import main
@@ -239,7 +235,7 @@ LIBRARY = ["explore_until_goal", "find_goal_and_oscillate", "scoop_repeatedly",
 def test_the_request_schema_is_grammar_friendly():
     jsonschema = pytest.importorskip("jsonschema")
     for env_id in ("VLB-GridExplore-v0", "VLB-Scoop-v0"):
-        schema = request_schema(gym.make(env_id), LIBRARY)
+        schema = grammar_schema(env_id, gym.make(env_id).unwrapped.primitives, LIBRARY)
         jsonschema.Draft202012Validator.check_schema(schema)
         assert schema["required"] == ["name", "description", "env", "variables", "functions",
                                       "nodes", "edges", "start", "terminals"]
@@ -273,8 +269,8 @@ def test_shipped_behaviors_and_paper_replies_meet_the_request_schema(user_librar
                 if compiled.name not in library:  # the second prompt builds on the first
                     library.save(compiled.spec)
         graph = {k: v for k, v in doc.items() if k != "promise"}  # promises are asked apart
-        errors = list(jsonschema.Draft202012Validator(request_schema(env, LIBRARY))
-                      .iter_errors(graph))
+        schema = grammar_schema(env_id, env.unwrapped.primitives, LIBRARY)
+        errors = list(jsonschema.Draft202012Validator(schema).iter_errors(graph))
         assert (not errors) is bool(valid), (doc["name"], [e.message for e in errors])
         checked += 1
     assert checked >= 6

@@ -18,7 +18,8 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from vlb_gym.core.expressions import BUILTINS, Budget, Expression, ExpressionError, guard_namespace
+from vlb_gym.core.budget import Budget
+from vlb_gym.core.expressions import BUILTINS, Expression, ExpressionError, guard_namespace
 
 EXAMPLES = 3000
 WALL_SECONDS = 2.0

@@ -6,14 +6,8 @@ import itertools
 
 import pytest
 
-from vlb_gym.core.expressions import (
-    BUILTINS,
-    Budget,
-    MAX_SEQUENCE,
-    Expression,
-    ExpressionError,
-    guard_namespace,
-)
+from vlb_gym.core.budget import MAX_SIZE, Budget
+from vlb_gym.core.expressions import BUILTINS, Expression, ExpressionError, guard_namespace
 
 WHERE = "behavior.json: nodes.n1.guard"
 
@@ -315,8 +309,8 @@ def test_sequence_repetition_limit(source):
 
 
 def test_sequence_repetition_at_limit_is_allowed():
-    assert run("[0] * 10000") == [0] * MAX_SEQUENCE
-    assert run("len('ab' * 5000)") == MAX_SEQUENCE
+    assert run("[0] * 10000") == [0] * MAX_SIZE
+    assert run("len('ab' * 5000)") == MAX_SIZE
 
 
 @pytest.mark.parametrize("source", [
@@ -330,18 +324,18 @@ def test_sequence_repetition_at_limit_is_allowed():
 def test_comprehension_source_limit(source):
     names = {**NAMES, "big": 0, "small": 0, "tup": 0, "text": 0}
     values = {**VALUES,
-              "big": lambda: list(range(MAX_SEQUENCE + 1)),
+              "big": lambda: list(range(MAX_SIZE + 1)),
               "small": lambda: [1, 2],
-              "tup": lambda: tuple(range(MAX_SEQUENCE + 1)),
-              "text": lambda: "a" * (MAX_SEQUENCE + 1)}
+              "tup": lambda: tuple(range(MAX_SIZE + 1)),
+              "text": lambda: "a" * (MAX_SIZE + 1)}
     with pytest.raises(ValueError, match="exceeds"):
         run(source, names, values)
 
 
 def _long_iterator():
-    """An iterator far longer than MAX_SEQUENCE that fails loudly if fully consumed."""
+    """An iterator far longer than MAX_SIZE that fails loudly if fully consumed."""
     for i in itertools.count():
-        if i > 5 * MAX_SEQUENCE:
+        if i > 5 * MAX_SIZE:
             raise AssertionError("comprehension source was not bounded")
         yield i
 
@@ -357,22 +351,22 @@ def test_comprehension_over_long_iterator_is_stopped(source):
 
 def test_comprehension_source_at_limit_is_allowed():
     names = {**NAMES, "big": 0, "gen": 0}
-    values = {**VALUES, "big": lambda: list(range(MAX_SEQUENCE)),
-              "gen": lambda: iter(range(MAX_SEQUENCE))}
-    assert run("sum(v for v in big())", names, values) == sum(range(MAX_SEQUENCE))
-    assert run("len([v for v in gen()])", names, values) == MAX_SEQUENCE
+    values = {**VALUES, "big": lambda: list(range(MAX_SIZE)),
+              "gen": lambda: iter(range(MAX_SIZE))}
+    assert run("sum(v for v in big())", names, values) == sum(range(MAX_SIZE))
+    assert run("len([v for v in gen()])", names, values) == MAX_SIZE
 
 
 def test_runtime_limits_apply_inside_function_expressions():
     fn = Expression("[0] * n", {"n": -1}, WHERE, args=("n",)).evaluate(guard_namespace({}))
     assert fn(3) == [0, 0, 0]
     with pytest.raises(ValueError, match="more than 10000 elements"):
-        fn(MAX_SEQUENCE + 1)
+        fn(MAX_SIZE + 1)
     total = Expression("sum(v for v in seq)", {"seq": -1, "sum": None}, WHERE,
                        args=("seq",)).evaluate(guard_namespace({}))
     assert total([1, 2, 3]) == 6
     with pytest.raises(ValueError, match="exceeds"):
-        total(list(range(MAX_SEQUENCE + 1)))
+        total(list(range(MAX_SIZE + 1)))
 
 
 # --------------------------------------------------------------------------- no builtins

@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from vlb_gym.core.primitive import Failure
 from vlb_gym.envs.grid_explore import GridExploreEnv, planner
 from vlb_gym.envs.grid_explore.types import EMPTY, GOAL, OBSTACLE, UNEXPLORED, cell_of
+from vlb_gym.wrappers.robustness import certificate_cause
 
 SENSE, NAVIGATE = 0, 1
 
@@ -68,6 +70,7 @@ def test_sense_elsewhere_is_not_admissible_and_changes_nothing(env):
     other = ((i + 3) % 10, j)
     obs2, _, _, _, info = env.step(np.array([SENSE, *other]))
     assert not info["admissible"] and not info["certificate"] and "not admissible" in info["reason"]
+    assert info["failure"] == Failure.INADMISSIBLE == "inadmissible"
     assert np.array_equal(obs["labels"], obs2["labels"])
 
 
@@ -80,6 +83,7 @@ def test_navigate_reaches_reachable_cells(env):
         target = tuple(targets[seed % len(targets)])
         _, _, _, _, info = env.step(np.array([NAVIGATE, *target]))
         assert info["admissible"] and info["certificate"], info
+        assert "failure" not in info and "reason" not in info
         assert env.state.cell == target
 
 
@@ -105,6 +109,12 @@ def test_process_noise_makes_certificates_fail_sometimes():
     assert 0 < len(failed) < len(outcomes)
     assert all(o["admissible"] for o in outcomes)
     assert any("collided" in o["reason"] for o in failed)
+    # a collision is the controller's failure; missing the target cell is the region's
+    assert {o["failure"] for o in failed} <= {"controller", "region"}
+    assert all((o["failure"] == "controller") == o["reason"].startswith("controller failed")
+               for o in failed)
+    assert {certificate_cause(o) for o in failed} <= {"navigate: controller failed",
+                                                      "navigate: certificate"}
 
 
 def test_noise_free_navigation_never_touches_obstacles(env):

@@ -13,8 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from vlb_gym.abstractor.backends import (BackendError, OpenAICompatibleBackend, ScriptedBackend,
-                                         TranscriptBackend, request_rejected)
+from vlb_gym.abstractor.backends import BackendError, ScriptedBackend, TranscriptBackend
+from vlb_gym.abstractor.dialects import request_rejected
+from vlb_gym.abstractor.served import OpenAICompatibleBackend
 from vlb_gym.core.files import MAX_FILE_BYTES
 
 from .chat_server import LLAMA_CPP_VALIDATION_500, ChatServer

@@ -12,7 +12,7 @@ import llguidance
 import pytest
 from outlines_core.json_schema import build_regex_from_schema
 
-from vlb_gym.abstractor.grammar import request_schema
+from vlb_gym.abstractor.grammar import grammar_schema
 from vlb_gym.abstractor.paper import PAPER, PROMPTS
 from vlb_gym.abstractor.prompt import PROMPT_VERSION, PromptContext, build_messages, space_text
 from vlb_gym.abstractor.synthesize import synthesize
@@ -129,8 +129,9 @@ def test_the_paper_replies_still_validate_with_the_compact_prompt(replies, libra
 def _schemas():
     for env_id in ENVS:
         env = gym.make(env_id)
-        yield pytest.param(request_schema(env), id=f"{env_id}-no-library")
-        yield pytest.param(request_schema(env, ["explore_until_goal", "b2"]),
+        primitives = env.unwrapped.primitives
+        yield pytest.param(grammar_schema(env_id, primitives), id=f"{env_id}-no-library")
+        yield pytest.param(grammar_schema(env_id, primitives, ["explore_until_goal", "b2"]),
                            id=f"{env_id}-library")
 
 

@@ -187,7 +187,7 @@ def test_sequential_report(tmp_path):
     config = CampaignConfig("VLB-GridExplore-v0", MAIN[:-5], 1, epsilon=0.1,
                             env_kwargs={"action_noise": 2.3})
     results: list = []
-    with Campaign(dataclasses.replace(config, episodes=40, sequential=True)) as prepared:
+    with Campaign(dataclasses.replace(config, episodes=40, method="sequential")) as prepared:
         report = dict(prepared.run(on_episode=results.append))
         plan = prepared.plan
     write_report_dir(tmp_path, report, [r.to_dict() for r in results], plan)

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from vlb_gym import RobustnessWrapper
 from vlb_gym.baselines.observations import (AGENT, FULL, GOAL_FOUND, HEADING_HOME, LEGS_DONE,
                                             START, LabelImage)
+from vlb_gym.baselines.configs import TASK_IDS
 from vlb_gym.baselines.tasks import LEGS, ExplorationBonus
 from vlb_gym.baselines.wrappers import admissible_actions
 from vlb_gym.envs.grid_explore.types import GOAL, UNEXPLORED
@@ -32,7 +33,7 @@ def random_admissible(env: gym.Env, rng: np.random.Generator) -> np.ndarray:
 @pytest.mark.parametrize("task", TASKS)
 def test_the_label_image_passes_both_env_checkers(task):
     sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker")
-    env = LabelImage(ExplorationBonus(gym.make(ENV, task=task) if task else gym.make(ENV)))
+    env = LabelImage(ExplorationBonus(gym.make(TASK_IDS.get(task, ENV))))
     check_env(env, skip_render_check=True)
     with pytest.warns(UserWarning, match="36x36"):  # the reason for GridCNN, and only that
         sb3_checker.check_env(env)
@@ -42,7 +43,7 @@ def test_the_label_image_passes_both_env_checkers(task):
 @settings(max_examples=8, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1), task=st.sampled_from(TASKS[1:]))
 def test_the_label_image_shows_the_true_state(seed, task):
-    env = LabelImage(gym.make(ENV, task=task))
+    env = LabelImage(gym.make(TASK_IDS[task]))
     rng = np.random.default_rng(seed)
     image, _ = env.reset(seed=seed)
     for _ in range(12):
@@ -72,7 +73,7 @@ def test_grid_cnn_keeps_every_cell_and_gives_its_features():
     torch = pytest.importorskip("torch")
     from vlb_gym.baselines.cnn import GridCNN
 
-    env = LabelImage(gym.make(ENV, task="find_goal"))
+    env = LabelImage(gym.make(TASK_IDS["find_goal"]))
     cnn = GridCNN(env.observation_space, features_dim=64)
     image, _ = env.reset(seed=0)
     features = cnn(torch.as_tensor(image[None] / 255.0, dtype=torch.float32))
@@ -86,8 +87,8 @@ def test_the_exploration_bonus_adds_up_as_documented_and_never_changes_rho(bonus
     known at the end - cells known after reset), counted from the true state here; every
     step's info, the termination and rho_B are the same."""
     rng = np.random.default_rng(7)
-    plain = RobustnessWrapper(gym.make(ENV, task="find_goal"))
-    shaped = RobustnessWrapper(ExplorationBonus(gym.make(ENV, task="find_goal"), bonus))
+    plain = RobustnessWrapper(gym.make(TASK_IDS["find_goal"]))
+    shaped = RobustnessWrapper(ExplorationBonus(gym.make(TASK_IDS["find_goal"]), bonus))
     for episode in range(3):
         plain.reset(seed=episode)
         shaped.reset(seed=episode)
@@ -110,7 +111,7 @@ def test_the_exploration_bonus_adds_up_as_documented_and_never_changes_rho(bonus
 @pytest.mark.parametrize("bonus", [-0.1, 2, "a"])
 def test_a_bad_bonus_is_refused(bonus):
     with pytest.raises(ValueError, match="bonus must be a number in"):
-        ExplorationBonus(gym.make(ENV, task="find_goal"), bonus)
+        ExplorationBonus(gym.make(TASK_IDS["find_goal"]), bonus)
 
 
 def _spatial_policy(task: str = "find_goal", **env_options):
@@ -118,7 +119,7 @@ def _spatial_policy(task: str = "find_goal", **env_options):
     from vlb_gym.baselines.cnn import SpatialPolicy
     from vlb_gym.baselines.train import make_env
 
-    env = make_env(ENV, {"task": task, **env_options}, "spatial")
+    env = make_env(TASK_IDS[task], env_options, "spatial")
     policy = SpatialPolicy(env.observation_space, env.action_space, lambda _: 3e-4)
     return env, policy
 

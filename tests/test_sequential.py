@@ -15,7 +15,7 @@ from scipy.stats import binom
 
 from vlb_gym.cli import main
 from vlb_gym.verify import bounds, sequential
-from vlb_gym.verify.campaign import CampaignConfig, episode_seed, run_campaign, run_sequential
+from vlb_gym.verify.campaign import CampaignConfig, episode_seed, run_campaign
 from vlb_gym.verify.sequential import SequentialTest, confidence_sequence, log_mixture, simulate
 
 from .conftest import EXAMPLES
@@ -121,9 +121,9 @@ def test_error_rate_stays_within_delta(p):
 
 
 def test_campaign_certifies_a_behavior_that_never_fails():
-    config = CampaignConfig(GRID, "find_goal_and_oscillate", 1)
+    config = CampaignConfig(GRID, "find_goal_and_oscillate", method="sequential")
     seen = []
-    report = run_sequential(config, on_episode=seen.append)
+    report = run_campaign(config, on_episode=seen.append)
     assert report["mode"] == "sequential" and report["decision"] == "certified"
     assert report["stopped_at"] == report["episodes"] == 81 and report["failures"] == 0
     assert [r.index for r in seen] == list(range(81))
@@ -135,9 +135,9 @@ def test_campaign_certifies_a_behavior_that_never_fails():
 
 
 def test_campaign_with_workers_decides_on_the_ordered_prefix():
-    config = CampaignConfig(GRID, str(EXAMPLES / "fixed_cell.json"), 1)
-    one = run_sequential(config, workers=1)
-    two = run_sequential(config, workers=2)
+    config = CampaignConfig(GRID, str(EXAMPLES / "fixed_cell.json"), method="sequential")
+    one = run_campaign(config, workers=1)
+    two = run_campaign(config, workers=2)
     assert one["decision"] == two["decision"] == "refuted"
     for key in ("stopped_at", "episodes", "successes", "failed_episodes", "lower_bound",
                 "upper_bound", "confidence"):
@@ -146,8 +146,8 @@ def test_campaign_with_workers_decides_on_the_ordered_prefix():
 
 
 def test_campaign_undecided_at_the_cap_certifies_nothing():
-    config = CampaignConfig(GRID, "find_goal_and_oscillate", 1)
-    report = run_sequential(config, max_episodes=10)
+    report = run_campaign(CampaignConfig(GRID, "find_goal_and_oscillate", 10,
+                                         method="sequential"))
     assert report["decision"] == "undecided" and report["stopped_at"] is None
     assert report["episodes"] == 10 and "nothing is certified" in report["statement"]
     assert report["confidence"] < 0.95 and report["lower_bound"] < 0.95
@@ -218,4 +218,4 @@ def test_a_stored_sequential_campaign_resumes_and_rebuilds_its_report(tmp_path, 
     # the same store cannot hold the fixed-N campaign of the same behavior
     assert main(["verify", GRID, "--behavior", "find_goal_and_oscillate", "--episodes", "1180",
                  "--epsilon", "0.05", "--quiet", "--store", str(store)]) == 2
-    assert "sequential: stored True, now False" in capsys.readouterr().err
+    assert "method: stored 'sequential', now 'fixed-N'" in capsys.readouterr().err

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import sqlite3
 import subprocess
@@ -16,6 +17,7 @@ import pytest
 from vlb_gym.cli import main
 from vlb_gym.verify import (CampaignConfig, CampaignStore, StoreError, report_from_store,
                             run_campaign)
+from vlb_gym.verify.store import parting
 
 from .conftest import EXAMPLES
 
@@ -85,7 +87,17 @@ def test_a_store_holding_another_campaign_is_refused_naming_what_differs(tmp_pat
     assert main([*base, "--episodes", "20", "--env-kwarg", "action_noise=0.5"]) == 2
     err = capsys.readouterr().err
     assert "env_kwargs" in err and "sampling_distribution" in err
+    stored, now = re.search(r"sampling_distribution: stored (.*), now (.*)\)$",
+                            err.strip()).groups()  # the last key that differs
+    assert stored != now and "sigma=0.5" in now and "sigma" not in stored  # where they part
     assert sorted(stored_indices(store)) == list(range(20))  # nothing was added
+
+
+def test_parting_shows_two_long_values_where_they_differ():
+    shared = "x" * 300
+    stored, now = parting(shared + "deterministic", shared + "noisy")
+    assert stored != now and stored.startswith("…") and "deterministic" in stored
+    assert parting(1, 2) == ("1", "2") and parting("ab", "abc") == ("'ab'", "'abc'")
 
 
 @pytest.mark.parametrize("content", [b"", b"not a database at all" * 100, b"SQLite format 3\0"])

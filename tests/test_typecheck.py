@@ -4,6 +4,8 @@ behavior (shipped, example or paper reply) refused."""
 from __future__ import annotations
 
 import json
+import re
+import shlex
 from pathlib import Path
 
 import gymnasium as gym
@@ -18,12 +20,8 @@ from vlb_gym.core.library import (
     shipped_behaviors,
 )
 from vlb_gym.core.spec import spec_from_data
-from vlb_gym.core.typecheck import (
-    BUILTIN_SIGNATURES,
-    TypeCheckError,
-    check,
-    helper_signatures,
-)
+from vlb_gym.core.signatures import BUILTIN_SIGNATURES, helper_signatures
+from vlb_gym.core.typecheck import TypeCheckError, check
 from vlb_gym.envs.grid_explore.helpers import GridHelpers
 from vlb_gym.envs.modules import import_env_module
 
@@ -132,6 +130,8 @@ def test_shipped_behaviors_still_load(grid_env):
 def test_examples_still_load():
     import_env_module(str(ROOT / "examples" / "integrator_env.py"))
     for path in sorted((ROOT / "examples").glob("*.json")):
+        if path.name.startswith("bad"):  # the README's refusals: see the next test
+            continue
         env = gym.make(json.loads(path.read_text())["env"])
         try:
             compile_for(str(path), env)
@@ -166,3 +166,15 @@ def test_valid_paper_replies_still_load(grid_env, monkeypatch):
             loaded += 1
     assert refused == []
     assert loaded == 2  # behavior 1's reply and behavior 2's repaired reply
+
+
+@pytest.mark.parametrize("example", ["bad.json", "bad_label.json"])
+def test_the_readmes_refused_examples_print_what_it_shows(example, capsys, monkeypatch):
+    from vlb_gym.cli import main
+
+    readme = (ROOT / "README.md").read_text()
+    command, shown = re.search(rf"^\$ vlb (verify .*examples/{example}.*)\n(.*)$", readme,
+                               re.M).groups()
+    monkeypatch.chdir(ROOT)
+    assert main(shlex.split(command)) == 2
+    assert capsys.readouterr().err.strip() == shown

@@ -16,8 +16,8 @@ from vlb_gym.abstractor.backends import ScriptedBackend
 from vlb_gym.abstractor.synthesize import SynthesisError, synthesize
 from vlb_gym.abstractor.validate import validate_reply
 from vlb_gym.core.compiler import MAX_BEHAVIOR_DEPTH, MAX_CALL_DEPTH
-from vlb_gym.core.expressions import (BUILTINS, MAX_CALLS, EvaluationLimitError, Expression,
-                                      ExpressionError, guard_namespace)
+from vlb_gym.core.budget import MAX_CALLS, EvaluationLimitError
+from vlb_gym.core.expressions import BUILTINS, Expression, ExpressionError, guard_namespace
 from vlb_gym.core.library import BehaviorLibrary, compile_for, load_behavior
 from vlb_gym.core.spec import MAX_FUNCTIONS, BehaviorSpecError
 from vlb_gym.verify.episode import run_episode

@@ -18,19 +18,27 @@ if TYPE_CHECKING:
 
 __version__ = "0.1.0"
 
-#: Every environment of the package, registered on import: (id, entry point, step bound). The
-#: grid's entry point applies the RL task wrapper for ``gym.make(..., task=...)``.
+#: Every environment of the package, registered on import: (id, entry point, step bound).
 ENVS = (
-    ("VLB-GridExplore-v0", "vlb_gym.baselines.tasks:make_grid_explore", 500),
+    ("VLB-GridExplore-v0", "vlb_gym.envs.grid_explore:GridExploreEnv", 500),
     ("VLB-Scoop-v0", "vlb_gym.envs.scoop:ScoopEnv", 20),  # needs the [scoop] extra (mujoco)
 )
 ENV_IDS = tuple(env_id for env_id, _, _ in ENVS)
 
-for _id, _entry_point, _steps in ENVS:
+#: The RL tasks on the grid (a reward, termination when the task is done, the observation keys
+#: a memoryless policy needs), each an id of its own so that no env kwarg can change what
+#: "finished" means; they live in :mod:`vlb_gym.baselines.tasks`.
+RL_TASKS = (
+    ("VLB-GridExplore-FindGoal-v0", "vlb_gym.baselines.tasks:find_goal", 500),
+    ("VLB-GridExplore-FindGoalAndOscillate-v0",
+     "vlb_gym.baselines.tasks:find_goal_and_oscillate", 500),
+)
+
+for _id, _entry_point, _steps in ENVS + RL_TASKS:
     if _id not in registry:
         register(id=_id, entry_point=_entry_point, max_episode_steps=_steps)
 
-__all__ = ["ENV_IDS", "ENVS", "BehaviorAgent", "BehaviorFinished", "BehaviorPolicy",
+__all__ = ["ENV_IDS", "ENVS", "RL_TASKS", "BehaviorAgent", "BehaviorFinished", "BehaviorPolicy",
            "BehaviorSpecError", "RobustnessWrapper", "load_behavior", "shipped_behaviors",
            "__version__"]
 __getattr__, __dir__ = lazy_names(__name__, globals(), {

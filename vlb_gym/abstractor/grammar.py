@@ -34,9 +34,8 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-import gymnasium as gym
+from vlb_gym.core.spec import IDENTIFIER_PATTERN
 
-NAME_PATTERN = "^[A-Za-z][A-Za-z0-9_]*$"
 MAX_STRING_LENGTH = 300
 """The ``maxLength`` of descriptions, the longest in the request schema (a task description
 copied into the behavior's fits)."""
@@ -45,7 +44,7 @@ MAX_GRAPH_ITEMS = 16
 
 
 def _name() -> dict[str, Any]:
-    return {"type": "string", "pattern": NAME_PATTERN}
+    return {"type": "string", "pattern": IDENTIFIER_PATTERN}
 
 
 def _expression() -> dict[str, Any]:
@@ -137,11 +136,3 @@ def promise_schema() -> dict[str, Any]:
             "properties": {"description": _text(), "expr": _expression()},
             "required": ["description", "expr"],
             "additionalProperties": False}
-
-
-def request_schema(env: gym.Env, library_names: Iterable[str] = ()) -> dict[str, Any]:
-    """The request schema for ``env`` (its primitives as an enum) and the library behaviors
-    ``library_names`` (an enum of sub-behavior names)."""
-    interface = env.unwrapped
-    env_id = getattr(interface, "env_id", None) or env.spec.id
-    return grammar_schema(env_id, interface.primitives, library_names)

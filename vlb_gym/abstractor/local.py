@@ -45,11 +45,6 @@ class Decoding:
     prompt_seconds: float | None
     done: bool = False
 
-    @property
-    def tokens_per_second(self) -> float:
-        generating = self.seconds - (self.prompt_seconds or 0.0)
-        return self.tokens / generating if self.tokens and generating > 0 else 0.0
-
 
 def check_model_file(path: str | Path) -> Path:
     """``path`` as a readable GGUF file, or ValueError saying what it is instead."""

@@ -76,7 +76,7 @@ def verify_agent(task: TaskConfig, policy: PolicyRef, episodes: int, seed: int,
                  workers: int = 1) -> dict:
     """The campaign report of ``policy`` on ``task``: ``episodes`` from campaign ``seed``."""
     kwargs = {} if policy.kind in ACTING.values() else task.env_kwargs  # an agent brings its own
-    return run_campaign(CampaignConfig(task.env_id, policy, episodes, EPSILON, DELTA, seed,
+    return run_campaign(CampaignConfig(task.task_id, policy, episodes, EPSILON, DELTA, seed,
                                        kwargs), workers)
 
 

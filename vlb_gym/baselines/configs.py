@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+import vlb_gym
+
 ALGORITHMS = ("ppo", "a2c", "maskable_ppo")
 OBSERVATIONS = ("flat", "image", "spatial")
 """How an agent sees the grid, and the network that reads it: ``flat``, the env's own
@@ -41,6 +43,11 @@ class AgentSpec:
         if not 0 <= bonus <= 1:
             raise ValueError(f"agent {text!r}: the bonus must lie between 0 and 1")
         return cls(parts[0], observation, bonus)
+
+    def __str__(self) -> str:
+        """The configuration as typed: ``ALGO[:OBSERVATION[:BONUS]]``, the defaults left out."""
+        parts = [self.algorithm, self.observation, f"{self.bonus:g}"]
+        return ":".join(parts[:3 if self.bonus else (2 if self.observation != "flat" else 1)])
 
     @property
     def label(self) -> str:
@@ -95,9 +102,17 @@ class TaskConfig:
         return self.name or self.task
 
     @property
-    def env_kwargs(self) -> dict[str, Any]:
-        return {**self.env_options, "task": self.task, "max_episode_steps": self.max_episode_steps}
+    def task_id(self) -> str:
+        """The registered env id of the task, which RL trains on and the comparison verifies."""
+        return TASK_IDS[self.task]
 
+    @property
+    def env_kwargs(self) -> dict[str, Any]:
+        return {**self.env_options, "max_episode_steps": self.max_episode_steps}
+
+
+#: The registered env id of each RL task (``vlb_gym.RL_TASKS``), by task name.
+TASK_IDS = {entry.rsplit(":", 1)[1]: env_id for env_id, entry, _ in vlb_gym.RL_TASKS}
 
 _GRID_HYPER = {
     "ppo": {"n_steps": 256, "batch_size": 256, "learning_rate": 3e-4, "ent_coef": 0.01,

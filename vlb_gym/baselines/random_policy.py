@@ -48,6 +48,8 @@ class RandomAdmissible:
 class RandomLoader:
     """Policy kind ``random``: the only reference is ``admissible``."""
 
+    runs_code = False
+
     def load(self, ref, env: gym.Env) -> RandomAdmissible:
         if ref.ref != REFERENCE:
             raise ValueError(f"unknown random policy {ref.ref!r}; the one there is: {REFERENCE}")

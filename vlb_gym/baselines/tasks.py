@@ -1,5 +1,7 @@
 """Tasks for RL on the exploration grid: :class:`GridTask` adds rewards, termination and the
-observation keys a memoryless policy needs (``gym.make("VLB-GridExplore-v0", task=...)``).
+observation keys a memoryless policy needs. Each task is an env id of its own
+(``gym.make("VLB-GridExplore-FindGoal-v0")``, see ``vlb_gym.RL_TASKS``); ``VLB-GridExplore-v0``
+itself has no task.
 
 Rewards never enter rho_B: the robustness wrapper scores certificates and finishing only. With a
 task the episode *terminates* when the task is done, and that is what "finished" means for a
@@ -66,7 +68,7 @@ class GridTask(gym.Wrapper):
 
     def __init__(self, env: gym.Env, task: str):
         if task not in TASKS:
-            raise ValueError(f"task={task!r} is not one of {TASKS} (or None)")
+            raise ValueError(f"task={task!r} is not one of {TASKS}")
         super().__init__(env)
         self.task = task
         self.tracker = TaskTracker(task)
@@ -93,11 +95,15 @@ class GridTask(gym.Wrapper):
         return {**obs, "start": start, "legs": self.tracker.legs}
 
 
-def make_grid_explore(task: str | None = None, **kwargs: Any) -> gym.Env:
-    """The entry point of ``VLB-GridExplore-v0``: the env, wrapped in :class:`GridTask` when a
-    ``task`` is given (the documented shortcut ``gym.make(..., task=...)``)."""
-    env = GridExploreEnv(**kwargs)
-    return env if task is None else GridTask(env, task)
+def find_goal(**kwargs: Any) -> gym.Env:
+    """The entry point of ``VLB-GridExplore-FindGoal-v0``: the grid (``kwargs`` as
+    :class:`GridExploreEnv` takes them) with the ``find_goal`` task."""
+    return GridTask(GridExploreEnv(**kwargs), "find_goal")
+
+
+def find_goal_and_oscillate(**kwargs: Any) -> gym.Env:
+    """The entry point of ``VLB-GridExplore-FindGoalAndOscillate-v0``."""
+    return GridTask(GridExploreEnv(**kwargs), "find_goal_and_oscillate")
 
 
 class ExplorationBonus(gym.Wrapper, gym.utils.RecordConstructorArgs):

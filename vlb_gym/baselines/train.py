@@ -19,7 +19,7 @@ import numpy as np
 import vlb_gym  # noqa: F401 - registers the envs
 from vlb_gym.core.files import read_json_file
 
-from .configs import ALGORITHMS, AgentSpec, TaskConfig, check_observation
+from .configs import ALGORITHMS, TASK_IDS, AgentSpec, TaskConfig, check_observation
 from .observations import LabelImage, LabelImager
 from .tasks import ExplorationBonus
 from .wrappers import ActionMasks, FlatActions, admissible_actions
@@ -102,7 +102,7 @@ def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_en
         from stable_baselines3.common.vec_env import SubprocVecEnv
         vec_cls = SubprocVecEnv
     vec = make_vec_env(make_env, n_envs=n_envs, seed=seed, vec_env_cls=vec_cls,
-                       env_kwargs={"env_id": config.env_id, "env_kwargs": config.env_kwargs,
+                       env_kwargs={"env_id": config.task_id, "env_kwargs": config.env_kwargs,
                                    "observation": observation, "bonus": bonus})
     network, policy_kwargs = _policy(vec, observation)
     hyper = dict(config.hyperparameters.get(algorithm, {}))
@@ -119,7 +119,7 @@ def train(config: TaskConfig, algorithm: str, out_dir: Path, seed: int = 0, n_en
         done = budget
         path = out_dir / f"{name}_{budget}"
         model.save(path)
-        meta = {"algorithm": algorithm, "env_id": config.env_id, "env_kwargs": config.env_kwargs,
+        meta = {"algorithm": algorithm, "env_id": config.task_id, "env_kwargs": config.env_kwargs,
                 "task": config.label, "observation": observation, "bonus": bonus,
                 "steps": int(model.num_timesteps), "seed": seed, "n_envs": n_envs,
                 "subprocesses": vec_cls is not None,
@@ -223,6 +223,12 @@ def load_metadata(path: str | Path) -> dict[str, Any]:
         raise ValueError(f"{meta_path}: unknown algorithm {meta['algorithm']!r}; "
                          f"expected one of {ALGORITHMS}")
     meta.setdefault("observation", "flat")  # agents saved before images were offered
+    if "task" in meta["env_kwargs"]:  # agents saved when a task was a kwarg of the grid env
+        task = meta["env_kwargs"].pop("task")
+        if task not in TASK_IDS:
+            raise ValueError(f"{meta_path}: env_kwargs.task: unknown task {task!r}; expected one "
+                             f"of {', '.join(TASK_IDS)}")
+        meta["env_id"] = TASK_IDS[task]
     check_observation(meta["algorithm"], meta["observation"], f"{meta_path}: ")
     return meta
 
@@ -239,6 +245,7 @@ class SB3Loader:
     (:class:`SampledSB3Loader`) draws it (see :class:`SB3Policy`)."""
 
     sample = False
+    runs_code = True  # loading unpickles the zip
 
     def load(self, ref, env: gym.Env) -> SB3Policy:
         return SB3Policy(ref.ref, env, self.sample)

@@ -28,7 +28,7 @@ def cmd_baseline_train(args: argparse.Namespace) -> int:
                   subprocesses=args.subprocesses)
     print(f"trained {args.algo} on {args.task} in {time.perf_counter() - started:.0f} s")
     for path in saved:
-        print(f"  saved {path}  (verify: vlb verify {args.env_id} --policy {path} "
+        print(f"  saved {path}  (verify: vlb verify {task.task_id} --policy {path} "
               "--episodes 100 --epsilon 0.05)")
     return 0
 
@@ -100,13 +100,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     cc.add_argument("--out", default="results", metavar="DIR",
                     help="where the table, the plot and the agents go")
     cc.add_argument("--tasks", nargs="+", default=list(DEFAULT_TASKS), choices=sorted(TASKS),
-                    metavar="TASK", help=f"tasks to compare: {', '.join(sorted(TASKS))} "
-                    f"(default: {' '.join(DEFAULT_TASKS)})")
+                    metavar="TASK", help=f"tasks to compare: {', '.join(sorted(TASKS))}")
     cc.add_argument("--agents", nargs="+", type=agent_spec, default=list(DEFAULT_AGENTS),
                     metavar="ALGO[:OBS[:BONUS]]",
                     help=f"RL configurations: algorithm ({', '.join(ALGORITHMS)}), "
-                    "observation (flat, image or spatial) and exploration bonus (default: "
-                    f"{' '.join(a.label for a in DEFAULT_AGENTS)})")
+                    "observation (flat, image or spatial) and exploration bonus")
     cc.add_argument("--seeds", type=count(1), default=3, metavar="N",
                     help="training seeds per configuration: --seed .. --seed + N - 1")
     cc.add_argument("--reuse", action="store_true",
@@ -116,10 +114,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                     help="step the --n-envs training envs in worker processes")
     cc.add_argument("--jobs", type=count(1), default=1, metavar="N",
                     help="training runs at once, each in a worker process, the CPUs' torch "
-                    "threads shared out (at most one per CPU; default 1)")
+                    "threads shared out (at most one per CPU)")
     cc.add_argument("--acting", nargs="+", choices=ACTING, default=list(ACTING),
                     help="how agents act when verified: greedy (the most likely action), "
-                    "sampled (drawn from the policy, seeded per episode); default both")
+                    "sampled (drawn from the policy, seeded per episode)")
     cc.add_argument("--episodes", type=count(1), default=100, metavar="N",
                     help="verification episodes per graph and agent")
     cc.add_argument("--budgets", type=count(1), nargs="+", metavar="STEPS",

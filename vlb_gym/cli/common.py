@@ -20,13 +20,14 @@ class UsageError(Exception):
 
 
 class HelpFormatter(argparse.HelpFormatter):
-    """Help that ends with the default of each option that has one worth stating (not None,
-    False or an empty list), as it would be typed."""
+    """Help that ends with the default of each option that takes a value and has a default
+    worth stating (not None, False or an empty list), as it would be typed."""
 
     def _expand_help(self, action: argparse.Action) -> str:
         text = super()._expand_help(action)
         default = action.default
-        if default is None or default is False or default == [] or default is argparse.SUPPRESS:
+        if action.nargs == 0 or default is None or default is False or default == [] \
+                or default is argparse.SUPPRESS:  # a flag's default is its absence
             return text
         shown = " ".join(map(str, default)) if isinstance(default, (list, tuple)) else default
         return f"{text} (default: {shown})"
@@ -106,9 +107,9 @@ def env_kwargs(pairs: list[str]) -> dict[str, Any]:
 def env_modules(refs: list[str]) -> tuple[str, ...]:
     """The ``--env-module`` references (modules that register the user's envs) as campaigns keep
     them: file paths absolute, as campaign workers import them again."""
-    from vlb_gym.envs.modules import is_path
+    from vlb_gym.envs.modules import is_module_path
 
-    return tuple(str(Path(ref).resolve()) if is_path(ref) else ref for ref in refs)
+    return tuple(str(Path(ref).resolve()) if is_module_path(ref) else ref for ref in refs)
 
 
 def open_env(env_id: str, kwargs: dict[str, Any], modules: tuple[str, ...] = ()) -> gym.Env:
@@ -222,13 +223,53 @@ def add_model_options(p: argparse.ArgumentParser) -> None:
                        help="a GGUF model file, decoded with the behavior grammar so every reply "
                        "is well-formed JSON; a progress line shows tokens and tokens/s")
     local.add_argument("--context", type=count(512), default=8192, metavar="TOKENS",
-                       help="context window (default 8192)")
+                       help="context window")
     local.add_argument("--threads", type=count(1), metavar="N",
                        help="CPU threads (default: all)")
     p.add_argument("--max-tokens", type=count(1), default=1500, metavar="N",
-                   help="tokens per reply (default 1500)")
+                   help="tokens per reply")
     p.add_argument("--temperature", type=float, default=0.0, metavar="T",
                    help="sampling temperature; 0 (the default) is greedy")
     p.add_argument("--sampling-seed", type=count(0), default=0, metavar="S",
                    help="seed of the sampler when --temperature > 0 (sent to a server as "
                    "'seed')")
+
+
+
+AGENT_KINDS = {False: "sb3", True: "sb3_sampled"}  # by --sample: the policy kinds of agents
+
+
+def policy_ref(args: argparse.Namespace):
+    """The policy named by --policy or --behavior; files by absolute path, so that a store's plan
+    means the same from any directory."""
+    from vlb_gym.core.library import is_behavior_path
+    from vlb_gym.verify.policies import PolicyRef
+
+    if args.policy:
+        return PolicyRef(AGENT_KINDS[args.sample], str(Path(args.policy).resolve()))
+    if args.sample:
+        raise UsageError("--sample draws a trained agent's actions: it needs --policy")
+    ref = args.behavior
+    return PolicyRef("behavior", str(Path(ref).resolve()) if is_behavior_path(ref) else ref)
+
+
+def read_store(path: str):
+    """The campaign store at ``path``, opened read-only."""
+    from vlb_gym.verify.store import CampaignStore, StoreError
+
+    try:
+        return CampaignStore(path, readonly=True)
+    except StoreError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def untrusted_options(store: str, plan: dict[str, Any], args: argparse.Namespace
+                      ) -> list[str]:
+    """What of the campaign stored in ``store`` is code that the command line does not name
+    again."""
+    from vlb_gym.verify.replay import untrusted_code
+
+    try:
+        return untrusted_code(plan, env_modules(args.env_module), args.policy)
+    except ValueError as exc:  # a policy kind no installed package loads
+        raise UsageError(f"{store}: {exc}") from None

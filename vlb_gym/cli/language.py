@@ -23,8 +23,8 @@ if TYPE_CHECKING:
 
 
 def backend_from_args(args: argparse.Namespace) -> ChatBackend:
-    from vlb_gym.abstractor.backends import (BackendError, OpenAICompatibleBackend,
-                                             ScriptedBackend, TranscriptBackend)
+    from vlb_gym.abstractor.backends import BackendError, ScriptedBackend, TranscriptBackend
+    from vlb_gym.abstractor.served import OpenAICompatibleBackend
 
     chosen = [flag for flag, value in (("--scripted", args.scripted),
                                        ("--replay-transcript", args.replay_transcript),
@@ -100,7 +100,9 @@ class TokenProgress:
 def announce_structured_output(backend: ChatBackend, command: str) -> None:
     """With ``--structured-output auto``, probe the server now (a failure is a usage error, exit
     2) and say on stderr which dialect it speaks."""
-    from vlb_gym.abstractor.backends import BackendError, OpenAICompatibleBackend, dialect_label
+    from vlb_gym.abstractor.backends import BackendError
+    from vlb_gym.abstractor.dialects import dialect_label
+    from vlb_gym.abstractor.served import OpenAICompatibleBackend
 
     if not isinstance(backend, OpenAICompatibleBackend) or backend.structured_output != "auto":
         return

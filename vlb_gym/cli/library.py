@@ -17,12 +17,15 @@ if TYPE_CHECKING:
 
 
 def cmd_behaviors(args: argparse.Namespace) -> int:
-    from vlb_gym.core.library import BehaviorLibrary, compile_spec
+    from vlb_gym.core.library import BehaviorLibrary, compile_spec, shipped_behaviors
 
     library = BehaviorLibrary()
     if args.name is None:
-        for name in library.names():
-            print(name)
+        names, shipped = library.names(), set(shipped_behaviors())
+        width = max(map(len, names), default=0)
+        for name in names:  # a user's behavior never shadows a shipped one (save refuses it)
+            where = "shipped" if name in shipped else f"yours: {library.directory / name}.json"
+            print(f"{name:<{width}}  {where}")
         return 0
     spec, source, base_dir = library.resolve(args.name)
     env_id = args.env_id or spec.env

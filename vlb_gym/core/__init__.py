@@ -14,12 +14,13 @@ if TYPE_CHECKING:
     from .compiler import CompiledBehavior, compile_behavior
     from .expressions import ExpressionError
     from .library import compile_for, load_behavior, shipped_behaviors
-    from .primitive import ControllerFailure, MotionPrimitive, Outcome, execute
+    from .primitive import ControllerFailure, Failure, MotionPrimitive, Outcome, execute
     from .runtime import BehaviorPolicy, BehaviorRuntimeError
     from .spec import BehaviorSpec, BehaviorSpecError, json_schema, parse_spec
 
 __all__ = ["BehaviorPolicy", "BehaviorRuntimeError", "BehaviorSpec", "BehaviorSpecError",
-           "CompiledBehavior", "ControllerFailure", "ExpressionError", "MotionPrimitive", "Outcome",
+           "CompiledBehavior", "ControllerFailure", "ExpressionError", "Failure",
+           "MotionPrimitive", "Outcome",
            "compile_behavior", "compile_for", "execute", "json_schema",
            "load_behavior", "parse_spec", "shipped_behaviors"]
 
@@ -27,7 +28,7 @@ __getattr__, __dir__ = lazy_names(__name__, globals(), {
     ".compiler": ("CompiledBehavior", "compile_behavior"),
     ".expressions": ("ExpressionError",),
     ".library": ("compile_for", "load_behavior", "shipped_behaviors"),
-    ".primitive": ("ControllerFailure", "MotionPrimitive", "Outcome", "execute"),
+    ".primitive": ("ControllerFailure", "Failure", "MotionPrimitive", "Outcome", "execute"),
     ".runtime": ("BehaviorPolicy", "BehaviorRuntimeError"),
     ".spec": ("BehaviorSpec", "BehaviorSpecError", "json_schema", "parse_spec"),
 })

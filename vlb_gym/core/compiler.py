@@ -23,7 +23,7 @@ from .expressions import BUILTINS, Expression, ExpressionError
 from .helpers import arity
 from .promise import compile_promise
 from .spec import BehaviorSpec, BehaviorSpecError
-from .typecheck import BUILTIN_SIGNATURES, Signature, helper_signatures
+from .signatures import BUILTIN_SIGNATURES, Signature, helper_signatures
 from .typecheck import check as typecheck
 
 VALUE = -1  # arity marker of names that are values, not functions

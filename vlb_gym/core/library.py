@@ -20,10 +20,10 @@ from .compiler import CompiledBehavior, compile_behavior
 from .env import PrimitiveEnv
 from .runtime import BehaviorPolicy
 from .files import InputFileError, read_limited, write_atomic
-from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
+from .spec import IDENTIFIER_PATTERN, BehaviorSpec, BehaviorSpecError, parse_spec
 
 SHIPPED = "vlb_gym.behaviors"
-_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+_NAME = re.compile(IDENTIFIER_PATTERN)
 
 
 def user_dir() -> Path:
@@ -40,7 +40,7 @@ def shipped_behaviors() -> list[str]:
                   if p.name.endswith(".json"))
 
 
-def is_path(ref: str) -> bool:
+def is_behavior_path(ref: str) -> bool:
     """Whether a behavior reference names a file rather than a library behavior."""
     return ref.endswith(".json") or "/" in ref or "\\" in ref
 
@@ -79,7 +79,7 @@ class BehaviorLibrary:
     def resolve(self, ref: str, base_dir: Path | None = None
                 ) -> tuple[BehaviorSpec, str, Path | None]:
         """Load ``ref`` (a name or a path, relative to ``base_dir`` if given) as a spec."""
-        if is_path(ref):
+        if is_behavior_path(ref):
             return self._read_path(ref, base_dir)
         return self.resolve_name(ref)
 
@@ -180,6 +180,8 @@ def behavior_tree(behavior: CompiledBehavior) -> list[CompiledBehavior]:
 class BehaviorLoader:
     """Behavior graphs as the policies of campaigns (policy kind ``behavior``): a name, resolved
     in ``ref.library`` (default: the user's library), or a JSON file."""
+
+    runs_code = False  # a behavior file is data, checked before anything runs
 
     def load(self, ref, env: gym.Env) -> BehaviorPolicy:
         library = BehaviorLibrary(Path(ref.library)) if ref.library else None

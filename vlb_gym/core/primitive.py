@@ -18,6 +18,7 @@ and evaluates the certificate ``C = x_f in R(xi, d)``, returning everything as o
 from __future__ import annotations
 
 import abc
+import enum
 import itertools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -43,12 +44,23 @@ class ControllerFailure(RuntimeError):
     """Raised by a controller that could not complete; the certificate is then false."""
 
 
+class Failure(str, enum.Enum):
+    """Why a certificate is false: the parameter was inadmissible (nothing ran), the controller
+    could not complete, or the final state missed the terminal region. A step's ``info`` holds
+    the value under ``"failure"``."""
+
+    INADMISSIBLE = "inadmissible"
+    CONTROLLER = "controller"
+    REGION = "region"
+
+
 @dataclass(slots=True)
 class Outcome:
     """What one primitive execution recorded: the paper's tuple (xi, P, x_f) and its certificate.
 
-    ``certificates`` holds one boolean per part of the terminal region (for primitives whose
-    region has named parts), ``details`` what the controller measured. Read-only by convention
+    ``failure`` says why the certificate is false (None when it holds), ``certificates`` holds
+    one boolean per part of the terminal region (for primitives whose region has named parts),
+    ``details`` what the controller measured. Read-only by convention
     (not frozen: one is made per step, and frozen dataclasses are slow to make).
     """
 
@@ -59,12 +71,15 @@ class Outcome:
     reason: str | None = None
     certificates: Mapping[str, bool] = field(default_factory=dict)
     details: Mapping[str, Any] = field(default_factory=dict)
+    failure: Failure | None = None
 
     def as_info(self) -> dict[str, Any]:
-        """The step's ``info``: primitive, param, admissible, certificate, the reason when it
-        failed, the parts' certificates (if any) and the measurements."""
+        """The step's ``info``: primitive, param, admissible, certificate, the failure and its
+        reason when it failed, the parts' certificates (if any) and the measurements."""
         info = {"primitive": self.primitive, "param": self.param,
                 "admissible": self.admissible, "certificate": self.certificate}
+        if self.failure is not None:
+            info["failure"] = self.failure.value
         if self.reason is not None:
             info["reason"] = self.reason
         if self.certificates:
@@ -130,16 +145,18 @@ def execute(primitive: MotionPrimitive[State], state: State, param: Any,
     parts = dict.fromkeys(primitive.region_parts, False)
     reason = primitive.inadmissible_reason(state, param)
     if reason is not None:
-        return Outcome(primitive.name, param, False, False, reason, parts)
+        return Outcome(primitive.name, param, False, False, reason, parts,
+                       failure=Failure.INADMISSIBLE)
     region = primitive.terminal_region(state, param)
     try:
         details = primitive.run(state, param, rng)
     except ControllerFailure as exc:
-        return Outcome(primitive.name, param, True, False, f"controller failed: {exc}", parts)
+        return Outcome(primitive.name, param, True, False, f"controller failed: {exc}", parts,
+                       failure=Failure.CONTROLLER)
     violations = region.violations(state)
     if not violations:
         return Outcome(primitive.name, param, True, True, None,
                        dict.fromkeys(primitive.region_parts, True), details)
     parts = {part: part not in violations for part in primitive.region_parts}
     return Outcome(primitive.name, param, True, False, "; ".join(violations.values()), parts,
-                   details)
+                   details, Failure.REGION)

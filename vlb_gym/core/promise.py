@@ -20,10 +20,11 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from .expressions import BUILTINS, Budget, Expression, ExpressionError, guard_namespace
+from .budget import Budget
+from .expressions import BUILTINS, Expression, ExpressionError, guard_namespace
 from .helpers import arity
 from .spec import BehaviorSpec, BehaviorSpecError
-from .typecheck import BUILTIN_SIGNATURES, helper_signatures
+from .signatures import BUILTIN_SIGNATURES, helper_signatures
 from .typecheck import check as typecheck
 
 if TYPE_CHECKING:

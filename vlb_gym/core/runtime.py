@@ -8,8 +8,8 @@ Run-time semantics: after a node's primitive (or sub-behavior) completes, its ou
 tried in file order and the first whose guard holds is taken; its ``set`` assignments run in order,
 then its ``param`` is evaluated for the next primitive. If no guard holds, a terminal node finishes
 its behavior (returning control to the parent's node), and a non-terminal node is an error. Every
-evaluation runs under the policy's :class:`~vlb_gym.core.expressions.Budget`; within one, a
-behavior function of no arguments is computed once (:meth:`~vlb_gym.core.expressions.Budget.once`).
+evaluation runs under the policy's :class:`~vlb_gym.core.budget.Budget`; within one, a
+behavior function of no arguments is computed once (:meth:`~vlb_gym.core.budget.Budget.once`).
 """
 
 from __future__ import annotations
@@ -21,7 +21,8 @@ import numpy as np
 
 from .compiler import CompiledBehavior
 from .env import PrimitiveEnv
-from .expressions import Budget, EvaluationLimitError, Expression, guard_namespace
+from .budget import Budget, EvaluationLimitError
+from .expressions import Expression, guard_namespace
 from .promise import Claim
 
 

@@ -33,7 +33,9 @@ from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, StringConstr
 
 from .files import InputFileError, load_json
 
-Identifier = Annotated[str, StringConstraints(pattern=r"^[A-Za-z][A-Za-z0-9_]*$", max_length=64)]
+IDENTIFIER_PATTERN = r"^[A-Za-z][A-Za-z0-9_]*$"
+"""Names of behaviors, nodes, variables and functions."""
+Identifier = Annotated[str, StringConstraints(pattern=IDENTIFIER_PATTERN, max_length=64)]
 ExpressionText = Annotated[str, StringConstraints(min_length=1, max_length=2000)]
 
 _UNPRINTABLE = ("Cc", "Cf", "Zl", "Zp")  # controls, format (bidi overrides), line breaks

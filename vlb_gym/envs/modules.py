@@ -20,7 +20,7 @@ import gymnasium as gym
 _BY_PATH: dict[Path, ModuleType] = {}
 
 
-def is_path(ref: str) -> bool:
+def is_module_path(ref: str) -> bool:
     """Whether ``ref`` names a file (``.py`` or with a ``/``) rather than a dotted module."""
     return ref.endswith(".py") or "/" in ref
 
@@ -29,7 +29,7 @@ def import_env_module(ref: str) -> ModuleType:
     """Import ``ref``: a Python file (as a module named after its stem, kept in ``sys.modules``
     so that its entry points resolve and its envs pickle) or a dotted module name. Each file is
     executed once per process."""
-    if not is_path(ref):
+    if not is_module_path(ref):
         return importlib.import_module(ref)
     path = Path(ref).resolve()
     if path in _BY_PATH:

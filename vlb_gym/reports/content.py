@@ -4,26 +4,23 @@ from __future__ import annotations
 
 import json
 import shlex
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from vlb_gym.verify import bounds
+from vlb_gym.verify.methods import method_named
 
 from . import attribution, graph, plots
 from .document import (Block, Code, Document, Figure, Gallery, Heading, Inline, Paragraph,
-                       Preformatted, Strong, Table)
+                       Preformatted, Strong, Table, short)
 from .png import encode_png, pick, thumbnail
 
 MAX_FAILED_ROWS = 25
 MAX_TRACEBACKS = 3
 MAX_FRAMES = 6
 MATPLOTLIB_MISSING = "no picture (install matplotlib, e.g. pip install 'vlb-gym[rl]')"
-
-
-def short(text: Any, limit: int) -> str:
-    text = " ".join(str(text).split())
-    return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
 def joined(parts: list[Inline], separator: str = ", ") -> list[Inline]:
@@ -40,65 +37,82 @@ def subject(report: dict[str, Any]) -> list[Inline]:
     return [what, Strong(str(report.get("behavior", "?")))]
 
 
-def sequential(report: dict[str, Any]) -> bool:
-    return report.get("mode") == "sequential"
-
-
 def claim_blocks(report: dict[str, Any]) -> list[Block]:
-    """Section 1: the guarantee in words, bounds rounded down."""
-    eps, delta = report["epsilon"], report["delta"]
-    claim, level = bounds.one_minus_str(eps), bounds.one_minus_str(delta)
-    n, k = report["episodes"], report["failures"]
-    where = ["For start/environment pairs drawn from the sampling distribution (",
-             str(report.get("sampling_distribution", "not recorded")), "), "]
-    blocks: list[Block] = [Heading(2, "The claim")]
-    if not sequential(report):
-        conf, low = report["confidence"], report["lower_bound"]
-        blocks += [
-            Paragraph([*where, *subject(report), " succeeds with probability at least ",
-                       Strong(claim), ", with confidence ", Strong(bounds.floor_str(conf)), "."]),
-            Paragraph(["At confidence level ", Strong(level), " (delta = ", f"{delta:g}",
-                       "), its probability of success is at least ", Strong(bounds.floor_str(low)),
-                       f" (one-sided Clopper–Pearson lower bound from N = {n} episodes with "
-                       f"k = {k} failures)."]),
-            Paragraph(["Target confidence ", level, ": ",
-                       Strong("met" if conf >= 1.0 - delta else "not met"),
-                       ". N was fixed before the campaign; bounds are rounded down; the guarantee "
-                       "holds for this sampling distribution only."])]
-    else:
-        decision = str(report.get("decision", "undecided"))
-        low, high = report["lower_bound"], report.get("upper_bound", 1.0)
-        stopped = report.get("stopped_at")
-        stop_words = (f"stopped after {stopped} episodes" if stopped is not None else
-                      f"no decision within the cap of {report.get('max_episodes', n)} episodes")
-        verb = {"certified": [" succeeds with probability at least ", Strong(claim),
-                              ": certified"],
-                "refuted": [" succeeds with probability below ", Strong(claim), ": refuted"]}
-        blocks += [
-            Paragraph([*where, *subject(report),
-                       *verb.get(decision, [" has no certified probability of success at ",
-                                            Strong(claim), ": undecided, nothing is certified"]),
-                       f" at level {level} by an anytime-valid sequential test ({stop_words})."]),
-            Paragraph(["Decision: ", Strong(decision), ". Anytime-valid confidence interval at "
-                       f"level {level}, simultaneously for all n: P[success] in [",
-                       Strong(bounds.floor_str(low)), ", ", Strong(bounds.ceil_str(high)),
-                       "]; confidence in the claim: ",
-                       Strong(bounds.floor_str(report["confidence"])), "."]),
-            Paragraph(["Test: ", str(report.get("test", "?")), ". Guarantee: ",
-                       str(report.get("guarantee", "?"))])]
-        fixed = report.get("fixed_n_description") or {}
-        if fixed:
-            blocks.append(Paragraph([
-                "Clopper–Pearson figures of these episodes, for description only: confidence ",
-                bounds.floor_str(fixed.get("confidence", 0.0)), ", lower bound ",
-                bounds.floor_str(fixed.get("lower_bound", 0.0)), ". ",
-                str(fixed.get("note", ""))]))
-    planned = report.get("planned_episodes")
+    """Section 1: the guarantee in words, bounds rounded down, as the campaign's statistical
+    method states it (:data:`CLAIMS`)."""
+    where: list[Inline] = ["For start/environment pairs drawn from the sampling distribution (",
+                           str(report.get("sampling_distribution", "not recorded")), "), ",
+                           *subject(report)]
+    blocks: list[Block] = [Heading(2, "The claim"), *CLAIMS[report["mode"]](report, where)]
+    n, planned = report["episodes"], report.get("planned_episodes")
     if planned is not None and planned != n:
         blocks.append(Paragraph([Strong("Incomplete campaign: "),
                                  f"{n} of {planned} planned episodes were stored; the figures "
                                  "describe those only."]))
     return blocks
+
+
+def _fixed_n_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:
+    claim, level = bounds.one_minus_str(report["epsilon"]), bounds.one_minus_str(report["delta"])
+    conf, low, delta = report["confidence"], report["lower_bound"], report["delta"]
+    return [
+        Paragraph([*where, " succeeds with probability at least ", Strong(claim),
+                   ", with confidence ", Strong(bounds.floor_str(conf)), "."]),
+        Paragraph(["At confidence level ", Strong(level), " (delta = ", f"{delta:g}",
+                   "), its probability of success is at least ", Strong(bounds.floor_str(low)),
+                   f" (one-sided Clopper–Pearson lower bound from N = {report['episodes']} "
+                   f"episodes with k = {report['failures']} failures)."]),
+        Paragraph(["Target confidence ", level, ": ",
+                   Strong("met" if conf >= 1.0 - delta else "not met"),
+                   ". N was fixed before the campaign; bounds are rounded down; the guarantee "
+                   "holds for this sampling distribution only."])]
+
+
+def _sequential_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:
+    claim, level = bounds.one_minus_str(report["epsilon"]), bounds.one_minus_str(report["delta"])
+    decision = str(report.get("decision", "undecided"))
+    low, high = report["lower_bound"], report.get("upper_bound", 1.0)
+    stopped = report.get("stopped_at")
+    stop_words = (f"stopped after {stopped} episodes" if stopped is not None else
+                  "no decision within the cap of "
+                  f"{report.get('max_episodes', report['episodes'])} episodes")
+    verb = {"certified": [" succeeds with probability at least ", Strong(claim), ": certified"],
+            "refuted": [" succeeds with probability below ", Strong(claim), ": refuted"]}
+    blocks: list[Block] = [
+        Paragraph([*where, *verb.get(decision, [" has no certified probability of success at ",
+                                                Strong(claim), ": undecided, nothing is "
+                                                "certified"]),
+                   f" at level {level} by an anytime-valid sequential test ({stop_words})."]),
+        Paragraph(["Decision: ", Strong(decision), ". Anytime-valid confidence interval at "
+                   f"level {level}, simultaneously for all n: P[success] in [",
+                   Strong(bounds.floor_str(low)), ", ", Strong(bounds.ceil_str(high)),
+                   "]; confidence in the claim: ",
+                   Strong(bounds.floor_str(report["confidence"])), "."]),
+        Paragraph(["Test: ", str(report.get("test", "?")), ". Guarantee: ",
+                   str(report.get("guarantee", "?"))])]
+    fixed = report.get("fixed_n_description") or {}
+    if fixed:
+        blocks.append(Paragraph([
+            "Clopper–Pearson figures of these episodes, for description only: confidence ",
+            bounds.floor_str(fixed.get("confidence", 0.0)), ", lower bound ",
+            bounds.floor_str(fixed.get("lower_bound", 0.0)), ". ", str(fixed.get("note", ""))]))
+    return blocks
+
+
+def _sequential_rows(report: dict[str, Any]) -> list[list[Any]]:
+    return [["upper bound on P[success] (anytime-valid)",
+             bounds.ceil_str(report.get("upper_bound", 1.0))],
+            ["decision", str(report.get("decision"))],
+            ["stopped at", str(report.get("stopped_at"))],
+            ["cap (max episodes)", str(report.get("max_episodes"))]]
+
+
+#: How each statistical method (:data:`vlb_gym.verify.methods.METHODS`) states its claim in a
+#: report, and the rows it adds to the numbers.
+CLAIMS: dict[str, Callable[[dict[str, Any], list[Inline]], list[Block]]] = {
+    "fixed-N": _fixed_n_claim, "sequential": _sequential_claim}
+METHOD_ROWS: dict[str, Callable[[dict[str, Any]], list[list[Any]]]] = {
+    "sequential": _sequential_rows}
 
 
 def numbers_table(report: dict[str, Any]) -> list[Block]:
@@ -113,12 +127,7 @@ def numbers_table(report: dict[str, Any]) -> list[Block]:
         ["delta (level 1 - delta)", f"{report['delta']:g}"],
         ["lower bound on P[success] at level 1 - delta", bounds.floor_str(report["lower_bound"])],
     ]
-    if sequential(report):
-        rows += [["upper bound on P[success] (anytime-valid)",
-                  bounds.ceil_str(report.get("upper_bound", 1.0))],
-                 ["decision", str(report.get("decision"))],
-                 ["stopped at", str(report.get("stopped_at"))],
-                 ["cap (max episodes)", str(report.get("max_episodes"))]]
+    rows += METHOD_ROWS.get(report["mode"], lambda _: [])(report)
     rows += [
         ["seed", Code(str(report.get("seed")))],
         ["wall time (s)", f"{report.get('wall_seconds', 0.0):.2f}"],
@@ -269,7 +278,8 @@ def chart_blocks(report: dict[str, Any], episodes: list[dict[str, Any]]) -> list
     """Sections 5 and 6: confidence against eps; rho_B and primitives per episode."""
     blocks: list[Block] = [Heading(2, "Confidence against eps")]
     n, k = report["episodes"], report["failures"]
-    note = "fixed-N formula, description only" if sequential(report) else ""
+    note = "fixed-N formula, description only" if method_named(report["mode"]).stops_early \
+        else ""
     try:
         blocks.append(Figure("confidence.png",
                              plots.confidence_png(n, k, report["epsilon"], report["delta"], note),

@@ -7,6 +7,13 @@ episodes); each renderer escapes it for its own format.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
+
+
+def short(text: Any, limit: int) -> str:
+    """``text`` on one line (runs of white space made one space), cut to ``limit`` characters."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
 @dataclass(frozen=True)

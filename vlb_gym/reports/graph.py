@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from .attribution import NodeStats, child_ref
+from .document import short
 
 DOT_TIMEOUT_S = 20.0
 NO_FAILURE = "#d9f0d3"
@@ -23,11 +24,6 @@ SUB_BEHAVIOR_EDGE = "#3b5b92"
 
 class PictureUnavailable(RuntimeError):
     """Neither Graphviz nor matplotlib can draw here; the message says what to install."""
-
-
-def _short(text: Any, limit: int) -> str:
-    text = " ".join(str(text).split())
-    return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
 def _mix(a: str, b: str, t: float) -> str:
@@ -48,11 +44,11 @@ def failure_colour(failed: int, most: int) -> str:
 def node_label(node: Mapping[str, Any], stats: NodeStats) -> str:
     """Id, what the node runs, and its failures (``~`` where attributed by primitive)."""
     ref = child_ref(node)
-    what = f"behavior {_short(ref, 28)}" if ref else _short(node.get("primitive", "?"), 28)
+    what = f"behavior {short(ref, 28)}" if ref else short(node.get("primitive", "?"), 28)
     approx = "~" if stats.approximate else ""
     count = (f"{approx}{stats.failed}/{stats.runs} failed" if stats.runs
              else f"{approx}{stats.failed} failed")
-    return f"{_short(node.get('id', '?'), 28)}\n({what})\n{count}"
+    return f"{short(node.get('id', '?'), 28)}\n({what})\n{count}"
 
 
 def _edges(spec: Mapping[str, Any]) -> list[tuple[str, str, str]]:
@@ -60,7 +56,7 @@ def _edges(spec: Mapping[str, Any]) -> list[tuple[str, str, str]]:
     for edge in spec.get("edges", []):
         guard = edge.get("guard")
         edges.append((str(edge.get("from")), str(edge.get("to")),
-                      _short(guard, 28) if guard not in (None, "", True, "True") else ""))
+                      short(guard, 28) if guard not in (None, "", True, "True") else ""))
     return edges
 
 
@@ -94,14 +90,14 @@ def to_dot(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: int,
     start = spec.get("start") or {}
     if str(start.get("node")) in ids:
         param = start.get("param")
-        label = _dot_quote(_short(param, 24)) if param is not None else '""'
+        label = _dot_quote(short(param, 24)) if param is not None else '""'
         lines += ["  start [shape=point, width=0.15, color=black];",
                   f"  start -> {ids[str(start.get('node'))]} [label={label}];"]
     for source, target, guard in _edges(spec):
         for end in (source, target):
             if end not in ids:  # an edge to an unknown node: draw it, do not hide it
                 ids[end] = f"n{len(ids)}"
-                lines.append(f"  {ids[end]} [label={_dot_quote(_short(end, 28) + '?')}, "
+                lines.append(f"  {ids[end]} [label={_dot_quote(short(end, 28) + '?')}, "
                              'shape=octagon, fillcolor="#eeeeee"];')
         lines.append(f"  {ids[source]} -> {ids[target]} [label={_dot_quote(guard)}];")
     lines += ["  subgraph cluster_legend {",

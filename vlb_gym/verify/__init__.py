@@ -12,21 +12,21 @@ from vlb_gym._lazy import lazy_names
 
 if TYPE_CHECKING:
     from .bounds import confidence, lower_bound, min_episodes
-    from .campaign import (Campaign, CampaignConfig, episode_seed, report_from_store,
-                           run_campaign, run_sequential)
+    from .campaign import Campaign, CampaignConfig, episode_seed, report_from_store, run_campaign
     from .episode import EpisodeResult, run_episode
+    from .methods import METHODS, Method
     from .policies import PolicyRef, register_policy_loader
     from .report import Report
     from .store import CampaignStore, StoreError
 
-__all__ = ["Campaign", "CampaignConfig", "CampaignStore", "EpisodeResult", "PolicyRef", "Report",
-           "StoreError", "confidence", "episode_seed", "lower_bound", "min_episodes",
-           "register_policy_loader", "report_from_store", "run_campaign", "run_episode",
-           "run_sequential"]
+__all__ = ["METHODS", "Campaign", "CampaignConfig", "CampaignStore", "EpisodeResult", "Method",
+           "PolicyRef", "Report", "StoreError", "confidence", "episode_seed", "lower_bound",
+           "min_episodes", "register_policy_loader", "report_from_store", "run_campaign",
+           "run_episode"]
 __getattr__, __dir__ = lazy_names(__name__, globals(), {
     ".bounds": ("confidence", "lower_bound", "min_episodes"),
     ".campaign": ("Campaign", "CampaignConfig", "episode_seed", "report_from_store",
-                  "run_campaign", "run_sequential"),
-    ".episode": ("EpisodeResult", "run_episode"),
+                  "run_campaign"),
+    ".episode": ("EpisodeResult", "run_episode"), ".methods": ("METHODS", "Method"),
     ".policies": ("PolicyRef", "register_policy_loader"),
     ".report": ("Report",), ".store": ("CampaignStore", "StoreError")})

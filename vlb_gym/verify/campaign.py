@@ -31,8 +31,9 @@ import vlb_gym
 from vlb_gym.envs.modules import make_primitive_env
 from vlb_gym.wrappers.robustness import RobustnessWrapper
 
-from . import backends, sequential
+from . import backends
 from .episode import EpisodeResult, Policy, run_episode
+from .methods import FixedN, Method, method_named
 from .policies import PolicyRef, policy_loader
 from .report import Report
 from .store import CampaignStore, StoreError
@@ -40,31 +41,37 @@ from .store import CampaignStore, StoreError
 
 @dataclass(frozen=True)
 class CampaignConfig:
-    """Everything that defines a campaign; N is fixed before it starts. ``policy`` is a
-    :class:`~.policies.PolicyRef`; a string names a behavior (a name or a JSON file). A
-    ``sequential`` campaign stops when its anytime-valid test decides, N episodes at most."""
+    """Everything that defines a campaign, fixed before it starts. ``policy`` is a
+    :class:`~.policies.PolicyRef`; a string names a behavior (a name or a JSON file).
+    ``method`` names the statistical method (:data:`~.methods.METHODS`: ``"fixed-N"`` runs all
+    N episodes, ``"sequential"`` stops when its anytime-valid test decides); ``episodes`` is N
+    (at most N for a method that stops early), by default the method's own."""
 
     env_id: str
     policy: PolicyRef | str
-    episodes: int
+    episodes: int | None = None
     epsilon: float = 0.05
     delta: float = 0.05
     seed: int = 0
     env_kwargs: dict[str, Any] = field(default_factory=dict)
     stop_on_failure: bool = True
     env_modules: tuple[str, ...] = ()  # modules that register the env (imported in workers too)
-    sequential: bool = False
+    method: str = FixedN.name
 
     def __post_init__(self) -> None:
         if isinstance(self.policy, str):
             object.__setattr__(self, "policy", PolicyRef("behavior", self.policy))
         object.__setattr__(self, "env_modules", tuple(self.env_modules))
-        if not isinstance(self.episodes, int) or self.episodes < 1:
-            raise ValueError(f"episodes must be a positive integer (got {self.episodes!r})")
         for name in ("epsilon", "delta"):
             value = getattr(self, name)
             if not 0 < value < 1:
                 raise ValueError(f"{name} must lie strictly between 0 and 1 (got {value!r})")
+        method = method_named(self.method)
+        if self.episodes is None:
+            object.__setattr__(self, "episodes", method.default_episodes(self.epsilon,
+                                                                         self.delta))
+        if not isinstance(self.episodes, int) or self.episodes < 1:
+            raise ValueError(f"episodes must be a positive integer (got {self.episodes!r})")
         if not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer (got {self.seed!r})")
 
@@ -154,78 +161,80 @@ class Campaign:
                                     preload=["vlb_gym.verify.campaign",
                                              *self.env.unwrapped.preload])
 
+    def method(self) -> Method:
+        """A fresh instance of the campaign's statistical method."""
+        config = self.config
+        return method_named(config.method)(config.epsilon, config.delta, config.episodes)
+
     def run(self, workers: int = 1, on_episode: Callable[[EpisodeResult], None] | None = None,
             store: CampaignStore | None = None, backend: str = "process",
             ray_address: str | None = None) -> Report:
         """Run the campaign and return its report; ``on_episode`` sees each result as it lands.
 
-        A fixed-N campaign runs all N episodes. A sequential one runs episodes 0, 1, 2, ...
-        until the anytime-valid test of :mod:`~vlb_gym.verify.sequential` certifies or refutes
-        ``P[success] >= 1 - epsilon`` at level ``delta``, or N (the cap) ran. The test sees
-        episodes in index order: with workers, results arrive unordered and the test decides on
-        the ordered prefix, so the decision, the stopping time and the episodes counted are the
-        same whatever the backend and worker count; ``on_episode`` then sees exactly those
-        episodes, in index order, and episodes that workers finished past the stopping time are
-        discarded.
+        Episodes run until the statistical method (:mod:`~vlb_gym.verify.methods`) has
+        decided: all N for a fixed-N campaign; for a sequential one, episodes 0, 1, 2, ...
+        until its anytime-valid test certifies or refutes ``P[success] >= 1 - epsilon`` at
+        level ``delta``, or N (the cap) ran. A method that may stop early sees episodes in
+        index order: with workers, results arrive unordered and it decides on the ordered
+        prefix, so the decision, the stopping time and the episodes counted are the same
+        whatever the backend and worker count; ``on_episode`` then sees exactly those
+        episodes, in index order, and episodes that workers finished past the stopping time
+        are discarded.
 
         With a ``store``, the plan is recorded first (or checked against the stored one), every
-        episode is stored as it finishes (a sequential campaign stores the prefix its test
-        saw), the episodes already stored are not run again, and the report is built from the
-        store.
+        episode is stored as it finishes (for a method that stops early, the prefix it saw),
+        the episodes already stored are not run again, and the report is built from the
+        store's episodes and this run's.
         """
         if _in_process(workers, backend):  # the env's slow imports, before the clock starts
             preload(self.env.unwrapped.preload)  # (workers get them from the forkserver)
         started = time.perf_counter()
-        stored: list[EpisodeResult] = []
+        method = self.method()
+        results: list[EpisodeResult] = []
         if store is not None:
             store.start(self.plan)
             stored = store.results()
-        keep = store.add if store is not None else None
-        if self.config.sequential:
-            results, test = self._sequential(stored, workers, backend, ray_address,
-                                             [f for f in (keep, on_episode) if f])
-            return Report.sequential(self.plan, results, test, self.config.episodes,
-                                     time.perf_counter() - started, workers, backend,
-                                     None if store is None else str(store.path),
-                                     len(results) - len(stored))
-        done = {r.index for r in stored}
-        todo = [i for i in range(self.config.episodes) if i not in done]
-        results = list(stored)
-        if todo:
-            for result in self.episodes(todo, workers, backend, ray_address):
-                results.append(result)
-                if keep is not None:
-                    keep(result)
-                if on_episode is not None:
-                    on_episode(result)
-        return Report.fixed_n(self.plan, results, time.perf_counter() - started, workers,
-                              backend, None if store is None else str(store.path), len(todo))
+            results = stored[:method.feed(r.success for r in stored)]
+        resumed = len(results)
+        consumers = [f for f in (store.add if store is not None else None, on_episode) if f]
+        if not method.decided:
+            done = {r.index for r in results}
+            todo = [i for i in range(self.config.episodes) if i not in done]
+            results += self._feed(method, todo, workers, backend, ray_address, consumers)
+        return Report.build(self.plan, results, time.perf_counter() - started, workers, backend,
+                            None if store is None else str(store.path), len(results) - resumed)
 
-    def _sequential(self, stored: list[EpisodeResult], workers: int, backend: str,
-                    ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]
-                    ) -> tuple[list[EpisodeResult], sequential.SequentialTest]:
-        """The episodes the sequential test saw (after the ``stored`` prefix), and the test."""
-        config = self.config
-        test = sequential.replay(config.epsilon, config.delta, stored)
-        used = list(stored)
-        if test.decision is not None or len(used) >= config.episodes:
-            return used, test
+    def _feed(self, method: Method, todo: list[int], workers: int, backend: str,
+              ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]
+              ) -> list[EpisodeResult]:
+        """Run episodes ``todo`` and hand them to ``method`` (and ``consumers``) until it
+        decides: as they finish, or in index order if it may stop early."""
+        used: list[EpisodeResult] = []
         waiting: dict[int, EpisodeResult] = {}
-        stream = self.episodes(range(len(used), config.episodes), workers, backend, ray_address)
+        order = iter(todo)
+        following = next(order, None)
+
+        def take(result: EpisodeResult) -> None:
+            used.append(result)
+            method.observe(result.success)
+            for consume in consumers:
+                consume(result)
+
+        stream = self.episodes(todo, workers, backend, ray_address)
         try:
             for result in stream:
+                if not method.stops_early:
+                    take(result)
+                    continue
                 waiting[result.index] = result
-                while test.decision is None and len(used) in waiting:
-                    ready = waiting.pop(len(used))
-                    used.append(ready)
-                    for consume in consumers:
-                        consume(ready)
-                    test.update(ready.success)
-                if test.decision is not None:
+                while not method.decided and following in waiting:
+                    take(waiting.pop(following))
+                    following = next(order, None)
+                if method.decided:
                     break
         finally:
-            stream.close()  # stops the workers when the test stopped early
-        return used, test
+            stream.close()  # stops the workers when the method decided early
+        return used
 
 
 def preload(modules: Sequence[str]) -> None:
@@ -244,22 +253,9 @@ def _in_process(workers: int, backend: str) -> bool:
 def run_campaign(config: CampaignConfig, workers: int = 1,
                  on_episode: Callable[[EpisodeResult], None] | None = None,
                  store: CampaignStore | None = None, backend: str = "process") -> Report:
-    """Prepare and run a fixed-N campaign (see :meth:`Campaign.run`)."""
+    """Prepare and run a campaign (see :meth:`Campaign.run`)."""
     with Campaign(config) as campaign:
         return campaign.run(workers, on_episode, store, backend)
-
-
-def run_sequential(config: CampaignConfig, max_episodes: int | None = None, workers: int = 1,
-                   on_episode: Callable[[EpisodeResult], None] | None = None,
-                   backend: str = "process") -> Report:
-    """Prepare and run a sequential campaign capped at ``max_episodes`` (default
-    :func:`~vlb_gym.verify.sequential.default_max_episodes`; ``config.episodes`` is ignored)."""
-    if max_episodes is None:
-        max_episodes = sequential.default_max_episodes(config.epsilon, config.delta)
-    if not isinstance(max_episodes, int) or max_episodes < 1:
-        raise ValueError(f"max_episodes must be a positive integer (got {max_episodes!r})")
-    with Campaign(dataclasses.replace(config, episodes=max_episodes, sequential=True)) as campaign:
-        return campaign.run(workers, on_episode, backend=backend)
 
 
 def report_from_store(store: CampaignStore) -> Report:
@@ -272,9 +268,5 @@ def report_from_store(store: CampaignStore) -> Report:
     results = store.results()
     if not results:
         raise StoreError(f"{store.path}: no episode is stored yet")
-    seconds = sum(r.seconds for r in results)
-    if plan["sequential"]:
-        test = sequential.replay(plan["epsilon"], plan["delta"], results)
-        return Report.sequential(plan, results, test, plan["episodes"], seconds, None, None,
-                                 str(store.path))
-    return Report.fixed_n(plan, results, seconds, None, None, str(store.path))
+    return Report.build(plan, results, sum(r.seconds for r in results), None, None,
+                        str(store.path))

@@ -37,7 +37,11 @@ class PolicyRef:
 
 
 class PolicyLoader(Protocol):
-    """What a kind of policy supplies to campaigns."""
+    """What a kind of policy supplies to campaigns. ``runs_code`` says whether loading a
+    reference runs code from it (a pickled agent does): a store naming such a policy is replayed
+    only when the user names it again."""
+
+    runs_code: bool
 
     def load(self, ref: PolicyRef, env: gym.Env) -> Policy:
         """The policy, ready to run on ``env`` (checked: a bad reference raises ValueError)."""

@@ -17,11 +17,26 @@ import sqlite3
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import (BaseModel, ConfigDict, Field, ValidationError, field_validator,
+                      model_validator)
 
 from .episode import STEP_KEYS, EpisodeResult
+from .methods import FixedN, Sequential, method_named
 
 APPLICATION_ID = 0x564C4231  # "VLB1", in the SQLite header: marks the file as a vlb-gym store
+
+
+def parting(a: Any, b: Any, width: int = 80) -> tuple[str, str]:
+    """The reprs of ``a`` and ``b``, each cut to about ``width`` characters around where they
+    first differ, so that two long values that share a beginning do not look the same."""
+    ra, rb = repr(a), repr(b)
+    at = next((i for i, (x, y) in enumerate(zip(ra, rb)) if x != y), min(len(ra), len(rb)))
+    start = max(0, at - width // 4)
+
+    def cut(text: str) -> str:
+        part = text[start:start + width]
+        return ("…" if start else "") + part + ("…" if start + width < len(text) else "")
+    return cut(ra), cut(rb)
 
 
 class StoreError(ValueError):
@@ -120,7 +135,8 @@ class CampaignStore:
             return
         differ = sorted(k for k in stored.keys() | plan.keys() if stored.get(k) != plan.get(k))
         if differ:
-            details = "; ".join(f"{k}: stored {stored.get(k)!r:.80}, now {plan.get(k)!r:.80}"
+            details = "; ".join("{}: stored {}, now {}".format(k, *parting(stored.get(k),
+                                                                          plan.get(k)))
                                 for k in differ)
             raise StoreError(f"{self.path} holds another campaign ({details})")
 
@@ -181,7 +197,8 @@ class StoredPolicy(BaseModel):
 
 
 class StoredPlan(BaseModel):
-    """The plan as a store holds it (what :class:`~.campaign.Campaign` makes)."""
+    """The plan as a store holds it (what :class:`~.campaign.Campaign` makes). Stores written
+    before plans named their statistical method say ``"sequential": true/false`` instead."""
 
     model_config = _STRICT
     env_id: str
@@ -193,11 +210,27 @@ class StoredPlan(BaseModel):
     env_kwargs: dict[str, Any]
     stop_on_failure: bool
     env_modules: list[str]
-    sequential: bool
+    method: str
     content_sha256: str
     policy_content: dict[str, Any]
     sampling_distribution: str
     versions: dict[str, str]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _named_method(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "method" not in data \
+                and isinstance(data.get("sequential"), bool):
+            legacy = data["sequential"]
+            data = {k: v for k, v in data.items() if k != "sequential"}
+            data["method"] = Sequential.name if legacy else FixedN.name
+        return data
+
+    @field_validator("method")
+    @classmethod
+    def _known_method(cls, name: str) -> str:
+        method_named(name)  # ValueError naming the known ones
+        return name
 
 
 class StoredEpisode(BaseModel):

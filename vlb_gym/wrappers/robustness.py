@@ -7,6 +7,7 @@ from typing import Any
 
 import gymnasium as gym
 
+from vlb_gym.core.primitive import Failure
 from vlb_gym.core.promise import Claim, judge
 
 
@@ -108,10 +109,10 @@ def certificate_cause(info: dict[str, Any]) -> str:
     """The class of a failed step, for grouping failures: ``"<primitive>: inadmissible
     parameter"``, ``"<primitive>: controller failed"`` or ``"<primitive>: certificate"`` with the
     failed parts of the terminal region in parentheses (e.g. ``"scoop: certificate (delivered)"``)."""
-    primitive = info["primitive"]
-    if not info["admissible"]:
+    primitive, failure = info["primitive"], info.get("failure")
+    if failure == Failure.INADMISSIBLE:
         return f"{primitive}: inadmissible parameter"
-    if str(info.get("reason", "")).startswith("controller failed"):
+    if failure == Failure.CONTROLLER:
         return f"{primitive}: controller failed"
     parts = [part for part, held in info.get("certificates", {}).items() if not held]
     return f"{primitive}: certificate" + (f" ({', '.join(parts)})" if parts else "")

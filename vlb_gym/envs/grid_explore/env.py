@@ -57,10 +57,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
 
     ## Rewards
     0: the environment exists to verify behaviors, whose robustness rho_B is computed by
-    :class:`vlb_gym.RobustnessWrapper` from the certificates, not from rewards. With
-    ``task="find_goal"`` or ``"find_goal_and_oscillate"``, ``gym.make`` wraps the env in
-    :class:`vlb_gym.baselines.tasks.GridTask`: a task-aligned reward for RL that never changes
-    rho_B.
+    :class:`vlb_gym.RobustnessWrapper` from the certificates, not from rewards. The RL tasks
+    on this env are ids of their own (``VLB-GridExplore-FindGoal-v0``,
+    ``VLB-GridExplore-FindGoalAndOscillate-v0``; :mod:`vlb_gym.baselines.tasks`).
 
     ## Starting State
     ``(x, d)`` drawn uniformly from the allowable space: obstacles and goals a uniform random
@@ -68,20 +67,20 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
     obstacle, no goal) and some goal is reachable from it. All labels start unexplored.
 
     ## Episode End
-    The environment never terminates by itself: a behavior decides when it has finished (with a
-    ``task``, the task wrapper terminates when the task is done). Episodes are truncated after
+    The environment never terminates by itself: a behavior decides when it has finished.
+    Episodes are truncated after
     ``max_episode_steps`` primitives (500 when made with ``gym.make``).
 
     ## Info
-    Every step: ``primitive``, ``param``, ``admissible``, ``certificate`` (and ``reason`` when the
-    certificate failed), plus ``cell`` (the agent's cell) and ``goal_found``. ``reset`` returns
+    Every step: ``primitive``, ``param``, ``admissible``, ``certificate`` (and ``failure`` and
+    ``reason`` when the certificate failed: see :class:`vlb_gym.core.Failure`), plus ``cell`` (the agent's cell) and ``goal_found``. ``reset`` returns
     ``start_cell``.
 
     ## Arguments
     ``gym.make("VLB-GridExplore-v0", render_mode=None, size=10, n_obstacles=30, n_goals=3,
-    action_noise=0.0, task=None)``: ``size`` an integer from 2 to 64, the counts integers that
-    leave a free start cell, ``action_noise`` a number from 0 to 100; otherwise ``TypeError`` or
-    ``ValueError``. ``task`` (``gym.make`` only) applies the RL task wrapper. ``action_noise``
+    action_noise=0.0)``: ``size`` an integer from 2 to 64, the counts integers that leave a free
+    start cell, ``action_noise`` a number from 0 to 100; otherwise ``TypeError`` or
+    ``ValueError``. ``action_noise``
     (cells/s) is the standard deviation of a Gaussian velocity disturbance on the integrator: the
     paper's non-deterministic case (Corollary 1).
     ``render_mode="rgb_array"`` renders a top-down picture (see :mod:`.viewer`).

@@ -79,7 +79,8 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
     Never terminates by itself (the behavior decides); truncated after 20 primitives.
 
     ## Info
-    ``primitive``, ``param``, ``admissible``, ``certificate`` (and ``reason``), ``certificates``
+    ``primitive``, ``param``, ``admissible``, ``certificate`` (and ``failure`` and ``reason``),
+    ``certificates``
     (``pose``: the flange ended within 1 cm and 3 deg of the sensing pose; ``delivered``: at least
     ``delivered_threshold_g`` grams reached the receiver), ``mass_scooped``, ``mass_delivered``,
     ``mass_spilled`` (grams), ``perceived`` (container estimates from the depth image) and

@@ -1,0 +1,135 @@
+"""The statistical-method interface: fixed-N and sequential are two methods of one interface,
+and a third plugs in (here a toy one, registered for the test) without touching the campaign,
+the store or the report."""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from typing import Any
+
+import pytest
+from scipy.stats import beta, binom
+
+from vlb_gym.verify import bounds
+from vlb_gym.verify.campaign import CampaignConfig, report_from_store, run_campaign
+from vlb_gym.verify.methods import METHODS, FixedN, Method, Sequential, method_named
+from vlb_gym.verify.report import Report
+from vlb_gym.verify.store import CampaignStore, StoreError
+
+from .conftest import EXAMPLES
+
+GRID = "VLB-GridExplore-v0"
+FIXED_CELL = str(EXAMPLES / "fixed_cell.json")  # fails now and then: both outcomes occur
+
+
+class UntilFailures(Method):
+    """A toy method: stop at the second failure; claims nothing beyond the counts."""
+
+    name = "until-2-failures"
+    stops_early = True
+
+    @classmethod
+    def default_episodes(cls, epsilon: float, delta: float) -> int:
+        return 50
+
+    @property
+    def decided(self) -> bool:
+        return self.failures >= 2 or self.n >= self.episodes
+
+    def claim(self) -> dict[str, Any]:
+        return {"complete": self.decided, "confidence": 0.0, "lower_bound": 0.0,
+                "statement": f"stopped at failure 2 after {self.n} episodes"}
+
+    @staticmethod
+    def lines(report):
+        return [f"  TOY: {report['statement']}"]
+
+
+@pytest.fixture
+def toy(monkeypatch):
+    monkeypatch.setitem(METHODS, UntilFailures.name, UntilFailures)
+    return UntilFailures
+
+
+def test_a_third_method_plugs_in_and_rebuilds_from_its_store(toy, tmp_path):
+    config = CampaignConfig(GRID, FIXED_CELL, method=toy.name)
+    assert config.episodes == 50  # the method's default N
+    store = CampaignStore(tmp_path / "toy.db")
+    try:
+        report = run_campaign(config, workers=2, store=store)
+    finally:
+        store.close()
+    assert report["mode"] == toy.name and report["failures"] == 2
+    indices = [e["index"] for e in report["failed_episodes"]]
+    assert report["episodes"] == indices[-1] + 1  # the ordered prefix up to the 2nd failure
+    assert report.summary().splitlines()[2] == f"  TOY: {report['statement']}"
+    rebuilt = report_from_store(CampaignStore(tmp_path / "toy.db", readonly=True))
+    for key in ("episodes", "failures", "statement", "failed_episodes", "complete"):
+        assert rebuilt[key] == report[key], key
+
+
+@pytest.mark.parametrize("n, k", [(59, 0), (100, 3), (7, 7)])
+def test_fixed_n_claims_the_binomial_tail_and_clopper_pearson(n, k):
+    method = FixedN(0.05, 0.05, n)
+    assert method.feed([False] * k + [True] * (n - k)) == n and method.decided
+    claim = method.claim()
+    assert claim["confidence"] == pytest.approx(1 - binom.cdf(k, n, 0.05))
+    assert claim["lower_bound"] == pytest.approx(0.0 if k == n else beta.ppf(0.05, n - k, k + 1))
+    assert claim["complete"] and "Clopper-Pearson" in claim["statement"]
+
+
+def test_sequential_decides_and_stops_taking_episodes():
+    method = Sequential(0.05, 0.05, 1000)
+    assert method.feed([True] * 500) == 81 and method.decided  # certified at 81 (README)
+    assert method.claim()["decision"] == "certified"
+    with pytest.raises(RuntimeError, match="decided already"):
+        method.observe(True)
+
+
+def test_unknown_methods_are_refused_by_name():
+    with pytest.raises(ValueError, match="unknown statistical method 'bayes'.*fixed-N"):
+        method_named("bayes")
+    with pytest.raises(ValueError, match="unknown statistical method"):
+        CampaignConfig(GRID, FIXED_CELL, 10, method="bayes")
+
+
+def test_a_store_that_names_an_unknown_method_is_refused(tmp_path):
+    path = tmp_path / "s.db"
+    store = CampaignStore(path)
+    run_campaign(CampaignConfig(GRID, FIXED_CELL, 3), store=store)
+    store.close()
+    with sqlite3.connect(path) as db:
+        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
+        db.execute("UPDATE plan SET plan = ?", (json.dumps({**plan, "method": "magic"}),))
+    with pytest.raises(StoreError, match="stored plan is not valid.*method.*magic"):
+        CampaignStore(path, readonly=True).plan()
+
+
+@pytest.mark.parametrize("legacy, method", [(False, "fixed-N"), (True, "sequential")])
+def test_a_store_written_before_methods_had_names_resumes(tmp_path, legacy, method):
+    path = tmp_path / "old.db"
+    config = CampaignConfig(GRID, FIXED_CELL, 20, method=method)
+    store = CampaignStore(path)
+    fresh = run_campaign(config, store=store)
+    store.close()
+    with sqlite3.connect(path) as db:
+        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
+        del plan["method"]
+        db.execute("UPDATE plan SET plan = ?", (json.dumps({**plan, "sequential": legacy}),))
+    store = CampaignStore(path)
+    try:
+        again = run_campaign(config, store=store)  # the same plan: resumed, nothing rerun
+    finally:
+        store.close()
+    assert again["mode"] == method and again["episodes"] == fresh["episodes"]
+    assert again["statement"] == fresh["statement"]
+
+
+def test_report_words_come_from_the_method():
+    plan_report = Report({"mode": "fixed-N", "epsilon": 0.05, "delta": 0.05,
+                          "confidence": 0.951, "lower_bound": 0.9491}, None)
+    assert FixedN.lines(plan_report) == [
+        "  P[success] >= 0.95 with confidence 0.95100",
+        f"  P[success] >= {bounds.floor_str(0.9491)} at confidence level 0.95 "
+        "(one-sided Clopper-Pearson)"]

@@ -1,0 +1,65 @@
+"""``vlb report``: a campaign's report rebuilt from its store, in words, JSON or a folder."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .common import UsageError, add_env_module, check_output, read_store, untrusted_options
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from vlb_gym.verify.campaign import report_from_store
+    from vlb_gym.verify.store import StoreError
+
+    store = read_store(args.store)
+    try:
+        report = report_from_store(store)
+        plan, episodes = store.plan(), store.results()
+    except StoreError as exc:
+        raise UsageError(str(exc)) from None
+    finally:
+        store.close()
+    if args.out:
+        from vlb_gym.reports import write_report_dir
+        from vlb_gym.verify.replay import episode_frames, store_files
+
+        out = Path(args.out)
+        if out.exists() and not out.is_dir():
+            raise UsageError(f"--out {args.out}: not a directory")
+        check_output(str(out / "report.html"), store_files(args.store), True, "--out")
+        frames = None
+        untrusted = untrusted_options(args.store, plan, args)
+        if args.frames and untrusted:
+            print(f"vlb report: no frames: replaying would run code the store names (name it "
+                  f"again to trust it: {' '.join(untrusted)})", file=sys.stderr)
+        elif args.frames:
+            frames, why_not = episode_frames(plan, episodes)
+            if why_not:
+                print(f"vlb report: no frames: {why_not}", file=sys.stderr)
+        written = write_report_dir(out, report, [e.to_dict() for e in episodes], plan, frames,
+                                   args.store)
+        print(f"wrote {', '.join(str(p) for p in written if p.parent == out)}")
+        return 0
+    print(report.to_json() if args.json else report.summary(), end="\n" * (not args.json))
+    return 0
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> None:
+    t = sub.add_parser("report", help="rebuild a campaign's report from its --store",
+                       description="Print the summary (or, with --json, the JSON report) of the "
+                       "campaign kept in a store by 'vlb verify --store', from the store alone.")
+    t.add_argument("store", metavar="STORE", help="the SQLite file given to vlb verify --store")
+    t.add_argument("--json", action="store_true", help="print the JSON report")
+    t.add_argument("--out", metavar="DIR",
+                   help="write report.json, report.md (with figures/) and a self-contained "
+                   "report.html here: the claim in words, failures by cause with replay "
+                   "commands, the behavior graph coloured by failed certificates, confidence "
+                   "against eps, per-episode charts, frames of a failed and a successful episode")
+    t.add_argument("--no-frames", dest="frames", action="store_false",
+                   help="with --out: no frames (they replay two episodes with rendering)")
+    t.add_argument("--policy", metavar="AGENT.zip",
+                   help="with --out, for the frames of a campaign of a trained agent: the agent "
+                   "the store names, named again to trust it (loading it runs code)")
+    add_env_module(t)
+    t.set_defaults(func=cmd_report)

@@ -1,0 +1,224 @@
+"""Statistical methods: how a campaign's episodes become a claim about ``P[success]``.
+
+A campaign tests ``P[success] >= 1 - epsilon`` at level ``delta``. A :class:`Method` sees the
+episodes' outcomes (in index order when it may stop early), says when it has decided, and gives
+the report's claim: its keys and its words. A campaign's plan names its method (``"fixed-N"``
+or ``"sequential"``); :data:`METHODS` maps the names to the classes, so a new method is one
+class here and nothing else changes: the campaign, the store, the report and the CLI ask the
+method, never the name.
+
+* :class:`FixedN`: N fixed before the campaign, every episode run; the binomial tail gives the
+  confidence and Clopper-Pearson the lower bound (:mod:`.bounds`).
+* :class:`Sequential`: episodes until the anytime-valid test of :mod:`.sequential` certifies or
+  refutes the claim, N at most.
+"""
+
+from __future__ import annotations
+
+import abc
+from collections.abc import Iterable, Mapping
+from typing import Any, ClassVar
+
+from . import bounds, sequential
+
+
+class Method(abc.ABC):
+    """A statistical method for one campaign of at most ``episodes`` episodes."""
+
+    name: ClassVar[str]
+    #: whether it may decide before the last episode: the campaign then feeds it episodes in
+    #: index order (whatever order workers finish them in) and drops those past its decision
+    stops_early: ClassVar[bool]
+
+    def __init__(self, epsilon: float, delta: float, episodes: int):
+        bounds._check_probability("epsilon", epsilon)
+        bounds._check_probability("delta", delta)
+        self.epsilon, self.delta, self.episodes = epsilon, delta, episodes
+        self.successes = self.failures = 0
+
+    @classmethod
+    @abc.abstractmethod
+    def default_episodes(cls, epsilon: float, delta: float) -> int:
+        """N when the campaign names none."""
+
+    @property
+    def n(self) -> int:
+        return self.successes + self.failures
+
+    def observe(self, success: bool) -> None:
+        """One more episode's outcome."""
+        if self.decided:
+            raise RuntimeError(f"{self.name}: the method has decided already")
+        if success:
+            self.successes += 1
+        else:
+            self.failures += 1
+
+    def feed(self, outcomes: Iterable[bool]) -> int:
+        """Observe ``outcomes`` (in index order) until the method decides; how many it used."""
+        used = 0
+        for success in outcomes:
+            if self.decided:
+                break
+            self.observe(success)
+            used += 1
+        return used
+
+    @property
+    @abc.abstractmethod
+    def decided(self) -> bool:
+        """Whether the campaign may stop now."""
+
+    @abc.abstractmethod
+    def claim(self) -> dict[str, Any]:
+        """The report's keys for the claim: at least ``complete``, ``confidence``,
+        ``lower_bound`` and ``statement`` (one sentence)."""
+
+    @staticmethod
+    @abc.abstractmethod
+    def lines(report: Mapping[str, Any]) -> list[str]:
+        """The claim of ``report`` in words, as ``vlb verify`` prints it."""
+
+
+class FixedN(Method):
+    """N fixed in advance; every episode counts."""
+
+    name = "fixed-N"
+    stops_early = False
+
+    @classmethod
+    def default_episodes(cls, epsilon: float, delta: float) -> int:
+        return bounds.min_episodes(epsilon, 1.0 - delta, 0)
+
+    @property
+    def decided(self) -> bool:
+        return self.n >= self.episodes
+
+    def claim(self) -> dict[str, Any]:
+        eps, delta = self.epsilon, self.delta
+        conf, low = _binomial(self.n, self.failures, eps, delta)
+        return {"complete": self.n == self.episodes, "confidence": conf, "lower_bound": low,
+                "statement": f"{_at_least(eps)} with confidence {bounds.floor_str(conf)}; "
+                             f"P[success] >= {bounds.floor_str(low)} at confidence level "
+                             f"{bounds.one_minus_str(delta)} (one-sided Clopper-Pearson)"}
+
+    @staticmethod
+    def lines(report: Mapping[str, Any]) -> list[str]:
+        return [f"  {_at_least(report['epsilon'])} with confidence "
+                f"{bounds.floor_str(report['confidence'])}",
+                f"  P[success] >= {bounds.floor_str(report['lower_bound'])} at confidence level "
+                f"{bounds.one_minus_str(report['delta'])} (one-sided Clopper-Pearson)"]
+
+
+class Sequential(Method):
+    """Until the anytime-valid test decides, N (the cap) at most."""
+
+    name = "sequential"
+    stops_early = True
+
+    def __init__(self, epsilon: float, delta: float, episodes: int):
+        super().__init__(epsilon, delta, episodes)
+        self.test = sequential.SequentialTest(epsilon, delta)
+
+    @classmethod
+    def default_episodes(cls, epsilon: float, delta: float) -> int:
+        return sequential.default_max_episodes(epsilon, delta)
+
+    def observe(self, success: bool) -> None:
+        super().observe(success)
+        self.test.update(success)
+
+    @property
+    def decided(self) -> bool:
+        return self.test.decision is not None or self.n >= self.episodes
+
+    def claim(self) -> dict[str, Any]:
+        test, eps, delta = self.test, self.epsilon, self.delta
+        low, high = test.bounds()
+        decision = test.decision or "undecided"
+        p0, level = bounds.one_minus_str(eps), bounds.one_minus_str(delta)
+        words = {
+            "certified": f"certified: P[success] >= {p0} at level {level}, anytime-valid "
+                         f"(stopped after {test.n} episodes)",
+            "refuted": f"refuted: P[success] < {p0} at level {level}, anytime-valid "
+                       f"(stopped after {test.n} episodes)",
+            "undecided": f"undecided after {test.n} episodes (the cap): nothing is certified",
+        }[decision]
+        conf, low_n = _binomial(self.n, self.failures, eps, delta)
+        return {
+            "complete": self.decided,  # a stored campaign may stop before its test decided
+            "test": sequential.TEST_NAME,
+            "prior": list(sequential.prior(eps)),
+            "guarantee": sequential.guarantee(eps, delta),
+            "decision": decision,
+            "stopped_at": test.stopped_at,
+            "max_episodes": self.episodes,
+            "fixed_n_plan": FixedN.default_episodes(eps, delta),
+            # the fixed-N keys, with their anytime-valid meaning in this mode
+            "confidence": test.confidence(),
+            "lower_bound": low,
+            "upper_bound": high,
+            "statement": f"{words}; P[success] in [{bounds.floor_str(low)}, "
+                         f"{bounds.ceil_str(high)}] at confidence level {level}, "
+                         f"simultaneously for all n ({sequential.TEST_NAME})",
+            "fixed_n_description": {
+                "confidence": conf, "lower_bound": low_n,
+                "note": "Clopper-Pearson figures of the episodes run, for description only: the "
+                        "number of episodes was not fixed in advance, so they are no guarantee"},
+        }
+
+    @staticmethod
+    def lines(report: Mapping[str, Any]) -> list[str]:
+        p0 = bounds.one_minus_str(report["epsilon"])
+        level = bounds.one_minus_str(report["delta"])
+        a, b = report["prior"]
+        decision, stopped = report["decision"], report["stopped_at"]
+        if decision == "certified":
+            head = (f"  CERTIFIED after {stopped} episodes: P[success] >= {p0} at confidence "
+                    f"level {level}, valid however often the test looked")
+        elif decision == "refuted":
+            head = (f"  REFUTED after {stopped} episodes: P[success] < {p0} at confidence "
+                    f"level {level}, valid however often the test looked")
+        elif not report["complete"]:
+            head = (f"  UNDECIDED so far, after {report['episodes']} episodes: the campaign was "
+                    "interrupted; nothing is certified")
+        else:
+            head = (f"  UNDECIDED after {report['episodes']} episodes (the cap, --max-episodes): "
+                    f"neither P[success] >= {p0} nor its negation is established; nothing is "
+                    "certified")
+        return [
+            head,
+            f"  anytime-valid: P[success] in [{bounds.floor_str(report['lower_bound'])}, "
+            f"{bounds.ceil_str(report['upper_bound'])}] at confidence level {level}, "
+            "simultaneously for every number of episodes",
+            f"  test: {report['test']}, mixing prior Beta({a:g}, {b:g}); Ville's inequality: the "
+            f"true P[success] leaves the interval at some n with probability <= "
+            f"{report['delta']:g}",
+            f"  fixed-N plan for comparison: {report['fixed_n_plan']} episodes with no failure "
+            "('vlb plan')",
+        ]
+
+
+def _binomial(n: int, failures: int, epsilon: float, delta: float) -> tuple[float, float]:
+    """The fixed-N confidence in the claim and the Clopper-Pearson lower bound (0 with no
+    episodes)."""
+    if not n:
+        return 0.0, 0.0
+    return bounds.confidence(n, failures, epsilon), bounds.lower_bound(n, failures, delta)
+
+
+def _at_least(epsilon: float) -> str:
+    return f"P[success] >= {bounds.one_minus_str(epsilon)}"
+
+
+METHODS: dict[str, type[Method]] = {m.name: m for m in (FixedN, Sequential)}
+"""Every statistical method, by the name a campaign's plan gives."""
+
+
+def method_named(name: str) -> type[Method]:
+    """The method called ``name``; ValueError naming the known ones otherwise."""
+    try:
+        return METHODS[name]
+    except KeyError:
+        raise ValueError(f"unknown statistical method {name!r} (known: "
+                         f"{', '.join(METHODS)})") from None

@@ -1,0 +1,81 @@
+"""One episode again: replayed from a seed or from a store, filmed where the env renders.
+
+A store is untrusted data: what of a stored campaign is code (the modules that register its env,
+a policy whose loading runs code, e.g. a pickled agent) is run only when the user names it again
+(:func:`untrusted_code`), and a policy that changed since its campaign is not replayed as if it
+were the same (:func:`changed_since`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .campaign import CampaignConfig, build
+from .episode import EpisodeResult, run_episode
+from .policies import policy_loader
+
+
+def store_files(path: str | Path) -> list[Path]:
+    """A store and the files SQLite keeps beside it: all inputs no output may overwrite."""
+    return [Path(path), Path(f"{path}-wal"), Path(f"{path}-shm")]
+
+
+def untrusted_code(plan: dict[str, Any], env_modules: Sequence[str],
+                   policy: str | None) -> list[str]:
+    """The options that would name again what of the stored ``plan`` is code and that the user
+    has not named (``env_modules`` they gave, the ``policy`` file they gave, if any): replaying
+    a store must not import or unpickle what only the store names. A policy kind whose loader
+    does not run code from its references (behaviors: data) needs nothing."""
+    missing = [f"--env-module {m}" for m in plan["env_modules"] if m not in set(env_modules)]
+    stored = plan["policy"]
+    if policy_loader(stored["kind"]).runs_code and \
+            (policy is None or str(Path(policy).resolve()) != stored["ref"]):
+        missing.append(f"--policy {stored['ref']}")
+    return missing
+
+
+def changed_since(config: CampaignConfig, policy: Any, digest: str) -> str | None:
+    """The policy's content digest now, if it differs from ``digest`` (the campaign's)."""
+    now = policy_loader(config.policy.kind).content(config.policy, policy)["sha256"]
+    return now if now != digest else None
+
+
+def filmed(env: Any, policy: Any, config: CampaignConfig, seed: int, index: int = 0,
+           film: bool = True) -> tuple[EpisodeResult, list[np.ndarray]]:
+    """Episode ``index`` (reset seed ``seed``) of ``policy`` on ``env`` (built with
+    ``render_mode="rgb_array"`` to film it) and its frames (none unless ``film``)."""
+    frames: list[np.ndarray] = []
+    if film:
+        env.unwrapped.film(frames.append)
+    try:
+        return run_episode(env, policy, seed, index, config.stop_on_failure), frames
+    finally:
+        env.unwrapped.film(None)
+
+
+def episode_frames(plan: dict[str, Any], episodes: Sequence[EpisodeResult]
+                   ) -> tuple[dict[str, list[np.ndarray]], str | None]:
+    """Frames of the first failed and the first successful episode of a stored campaign,
+    replayed where the env renders and the policy is still the one the campaign ran; else no
+    frames and why not."""
+    config = CampaignConfig.from_plan(plan)
+    try:
+        env, policy = build(config, "rgb_array")
+    except (ValueError, ImportError) as exc:
+        return {}, str(exc)
+    try:
+        if changed_since(config, policy, plan["content_sha256"]):
+            return {}, "the policy changed since the campaign"
+        frames = {}
+        for label, success in (("failed", False), ("successful", True)):
+            record = next((e for e in episodes if e.success == success), None)
+            if record is not None:
+                frames[f"{label} episode {record.index}"] = \
+                    filmed(env, policy, config, record.seed, record.index)[1]
+        return frames, None
+    finally:
+        env.close()
