@@ -11,7 +11,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from vlb_gym.abstractor.scoop_setup import (ScoopSetup, SetupError, Translate, parse_command,
+from vlb_gym.envs.scoop.setup import (ScoopSetup, SetupError, Translate, parse_command,
                                             parse_reply)
 from vlb_gym.cli import main
 from vlb_gym.core.library import BehaviorLibrary

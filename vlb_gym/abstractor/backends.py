@@ -30,9 +30,17 @@ class BackendError(RuntimeError):
 
 
 class ChatBackend(Protocol):
-    """What the generalizer needs from a language model."""
+    """What the generalizer needs from a language model, and what it records of one: ``usage``,
+    one entry per draw where the backend measures them (a local model: tokens and seconds),
+    else empty; ``dialect``, the structured-output dialect a served model used (None elsewhere
+    or before it probed); ``probe_log``, what each probe of ``"auto"`` got."""
 
     name: str
+    usage: list[dict[str, Any]]
+    probe_log: list[dict[str, str]]
+
+    @property
+    def dialect(self) -> str | None: ...
 
     def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
         """The model's reply to ``messages``; ``schema`` is the JSON Schema the reply must meet."""
@@ -64,10 +72,14 @@ class ScriptedBackend:
     """Replies with the given strings, one per call, and records what it was asked; a None
     reply (a recorded backend failure) is that failure again."""
 
+    dialect = None
+
     def __init__(self, replies: Sequence[str | None], name: str = "scripted"):
         self.replies = list(replies)
         self.requests: list[list[Message]] = []
         self.name = name
+        self.usage: list[dict[str, Any]] = []
+        self.probe_log: list[dict[str, str]] = []
 
     def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
         self.requests.append(list(messages))

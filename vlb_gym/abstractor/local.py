@@ -98,6 +98,7 @@ class LocalBackend:
         self.progress = progress
         self.name = f"{path.name} (local, llama.cpp)"
         self.usage: list[dict[str, Any]] = []
+        self.probe_log: list[dict[str, str]] = []  # nothing to probe: llama.cpp takes grammars
         self._grammars: dict[str, Any] = {}
 
     def grammar(self, schema: dict[str, Any]) -> Any:

@@ -92,7 +92,7 @@ class PromptContext:
     def build(cls, env: gym.Env, library: BehaviorLibrary, uses: tuple[str, ...] = ()
               ) -> PromptContext:
         interface = env.unwrapped
-        env_id = getattr(interface, "env_id", None) or env.spec.id
+        env_id = interface.env_id or env.spec.id
         primitives = {name: {"description": p.description, "parameters": str(p.param_space),
                              "brief": space_text(p.param_space)}
                       for name, p in interface.primitives.items()}

@@ -138,6 +138,7 @@ class OpenAICompatibleBackend:
         self.timeout, self.max_retries, self.backoff = timeout, max_retries, backoff
         self.structured_output = structured_output
         self.probe_log: list[dict[str, str]] = []
+        self.usage: list[dict[str, Any]] = []  # a server's timings are its own
         self._dialect = None if structured_output == "auto" else structured_output
         self.temperature, self.seed, self.max_tokens = temperature, seed, max_tokens
         self.max_reply_bytes, self.max_reply_chars = max_reply_bytes, max_reply_chars

@@ -65,9 +65,9 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
     schema = request_schema(context)
     transcript["messages"] = list(messages)
     error: BehaviorSpecError | None = None
-    usage = getattr(backend, "usage", None)  # a local model's draws: tokens and seconds
+    usage = backend.usage  # a local model's draws: tokens and seconds
     for round_number in range(1, max_rounds + 1):
-        drawn = len(usage) if usage is not None else 0
+        drawn = len(usage)
         try:
             reply = backend.complete(messages, schema)
         except BackendError as exc:
@@ -98,10 +98,9 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
 def _note_structured_output(transcript: dict[str, Any], backend: ChatBackend) -> None:
     """Record the structured-output dialect an HTTP backend used (and, if it probed, what each
     probe got)."""
-    dialect = getattr(backend, "dialect", None)
-    if dialect is not None:
-        transcript["structured_output"] = dialect
-        if getattr(backend, "probe_log", None):
+    if backend.dialect is not None:
+        transcript["structured_output"] = backend.dialect
+        if backend.probe_log:
             transcript["structured_output_probe"] = list(backend.probe_log)
 
 

@@ -228,7 +228,7 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
 
 def cmd_scoop_setup(args: argparse.Namespace) -> int:
     from vlb_gym.abstractor.backends import BackendError
-    from vlb_gym.abstractor.scoop_setup import ScoopSetup, SetupError, transcript_json
+    from vlb_gym.envs.scoop.setup import ScoopSetup, SetupError, transcript_json
     from vlb_gym.core.library import BehaviorLibrary
 
     backend = (backend_from_args(args) if (args.base_url or args.scripted or args.model_path)

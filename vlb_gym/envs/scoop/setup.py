@@ -5,7 +5,8 @@ of three helpers -- ``translate`` and ``rotate`` the end-effector by an amount, 
 pose -- sent back as data (a JSON list of calls, checked against a schema), never as code. The arm
 moves in the simulation, the wrist camera's view is written to an image file, and the saved pose
 becomes the sensing pose of a copy of ``scoop_repeatedly`` in the behavior library. Without a
-language model the same helpers are typed as commands (``translate 0 0.05 0``).
+language model the same helpers are typed as commands (``translate 0 0.05 0``). ``vlb
+scoop-setup`` runs a session on stdin.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal, Protocol, Union
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
@@ -21,7 +22,14 @@ from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.core.spec import BehaviorSpecError
 
-from .backends import ChatBackend
+
+class LanguageModel(Protocol):
+    """What the session asks of a model (a :class:`vlb_gym.abstractor.backends.ChatBackend`
+    is one): a reply to chat messages, meeting a JSON schema."""
+
+    def complete(self, messages: Sequence[dict[str, str]],
+                 schema: dict[str, Any] | None = None) -> str: ...
+
 
 MAX_STEP_M = 0.3  # largest translation one call may ask for
 MAX_STEP_DEG = 90.0
@@ -109,7 +117,7 @@ def parse_command(line: str) -> list[Translate | Rotate | Save]:
 class ScoopSetup:
     """A set-up session on a ``VLB-Scoop-v0`` environment (unwrapped ``ScoopEnv``)."""
 
-    def __init__(self, env: Any, image_dir: Path, backend: ChatBackend | None = None,
+    def __init__(self, env: Any, image_dir: Path, backend: LanguageModel | None = None,
                  max_rounds: int = 2):
         from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
 
