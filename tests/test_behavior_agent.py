@@ -211,10 +211,10 @@ def test_robustness_is_added_when_missing_and_env_checker_passes():
     assert [str(w.message) for w in caught if "unwrapped" not in str(w.message)] == []
 
 
-def test_the_readmes_evaluate_policy_example_runs_and_reads_rho(capsys):
-    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+def test_the_documented_evaluate_policy_example_runs_and_reads_rho(capsys):
+    readme = (Path(__file__).resolve().parent.parent / "docs" / "python.md").read_text()
     block = next(b for b in readme.split("```python\n")[1:] if "evaluate_policy(agent" in b)
     scope: dict = {}
-    exec(block.split("```")[0], scope)  # noqa: S102 - the README's own example
+    exec(block.split("```")[0], scope)  # noqa: S102 - the page's own example
     assert len(scope["rho"]) == 10 and set(scope["rho"]) <= {1, -1}
     assert capsys.readouterr().out.startswith("10 episodes, rho_B: [")

@@ -130,7 +130,7 @@ def test_shipped_behaviors_still_load(grid_env):
 def test_examples_still_load():
     import_env_module(str(ROOT / "examples" / "integrator_env.py"))
     for path in sorted((ROOT / "examples").glob("*.json")):
-        if path.name.startswith("bad"):  # the README's refusals: see the next test
+        if path.name.startswith("bad"):  # the documented refusals: see the next test
             continue
         env = gym.make(json.loads(path.read_text())["env"])
         try:
@@ -169,10 +169,10 @@ def test_valid_paper_replies_still_load(grid_env, monkeypatch):
 
 
 @pytest.mark.parametrize("example", ["bad.json", "bad_label.json"])
-def test_the_readmes_refused_examples_print_what_it_shows(example, capsys, monkeypatch):
+def test_the_documented_refused_examples_print_what_the_page_shows(example, capsys, monkeypatch):
     from vlb_gym.cli import main
 
-    readme = (ROOT / "README.md").read_text()
+    readme = (ROOT / "docs" / "behaviors.md").read_text()
     command, shown = re.search(rf"^\$ vlb (verify .*examples/{example}.*)\n(.*)$", readme,
                                re.M).groups()
     monkeypatch.chdir(ROOT)
