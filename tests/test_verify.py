@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -210,3 +212,32 @@ def test_a_failed_part_of_the_scoop_certificate_is_named():
     report = run_campaign(CampaignConfig("VLB-Scoop-v0", "scoop_repeatedly", 1,
                                          env_kwargs={"delivered_threshold_g": 5000.0}))
     assert _causes(report) == {"scoop: certificate (delivered)": 1}
+
+
+def test_an_episode_capped_in_primitives_stops_unfinished():
+    env = RobustnessWrapper(gym.make("VLB-GridExplore-v0"))
+    policy = load_behavior("find_goal_and_oscillate", env)
+    capped = run_episode(env, policy, 3, max_primitives=3)
+    assert (capped.primitives, capped.finished, capped.rho) == (3, False, -1)
+    assert capped.cause == "primitive limit" and capped.error is None
+    whole = run_episode(env, policy, 3)
+    assert whole.finished and whole.primitives > 3
+    assert [s["param"] for s in whole.steps[:3]] == [s["param"] for s in capped.steps]
+
+
+def test_the_dry_run_accepts_failed_certificates_and_refuses_errors(tmp_path):
+    from vlb_gym.abstractor.validate import dry_run
+    from vlb_gym.core.library import compile_for
+    from vlb_gym.core.spec import BehaviorSpecError
+
+    env = gym.make("VLB-GridExplore-v0")
+    dry_run(compile_for(str(EXAMPLES / "fixed_cell.json"), env), env)  # fails, but is valid
+    doc = json.loads((EXAMPLES / "fixed_cell.json").read_text())
+    doc["edges"] = [{**edge, "guard": "1 / (len(explored()) - len(explored())) > 0"}
+                    for edge in doc["edges"]]
+    path = tmp_path / "broken.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(BehaviorSpecError, match=r"^dry run from reset seed 0, before primitive "
+                                                r"2: .*ZeroDivisionError") as err:
+        dry_run(compile_for(str(path), env), env)
+    assert err.value.layer == "dry-run"

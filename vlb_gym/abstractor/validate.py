@@ -17,9 +17,11 @@ import re
 import gymnasium as gym
 
 from vlb_gym.core.compiler import CompiledBehavior
-from vlb_gym.core.runtime import BehaviorPolicy, BehaviorRuntimeError
+from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.library import BehaviorLibrary, compile_spec
 from vlb_gym.core.spec import BehaviorSpec, BehaviorSpecError, parse_spec
+from vlb_gym.verify.episode import run_episode
+from vlb_gym.wrappers.robustness import RobustnessWrapper
 
 _FENCE = re.compile(r"^```(?:json)?\s*\n(.*)\n```$", re.DOTALL)
 DRY_RUN_SEEDS = (0, 1, 2)
@@ -35,22 +37,17 @@ def parse_reply(reply: str, source: str) -> BehaviorSpec:
 
 def dry_run(compiled: CompiledBehavior, env: gym.Env, seeds=DRY_RUN_SEEDS,
             steps: int = DRY_RUN_STEPS) -> None:
-    """Layer dry-run: run a few episodes for a bounded number of primitives."""
+    """Layer dry-run: a few episodes of at most ``steps`` primitives, run as campaigns run them
+    (:func:`~vlb_gym.verify.episode.run_episode`); an episode that raised (a behavior runtime
+    error, an exceeded budget) fails the layer, a failed certificate or promise does not (it is
+    the behavior's outcome, which verification judges)."""
+    robust = env if isinstance(env, RobustnessWrapper) else RobustnessWrapper(env)
     policy = BehaviorPolicy(compiled, env.unwrapped)
     for seed in seeds:
-        obs, _ = env.reset(seed=seed)
-        policy.reset()
-        for step in range(1, steps + 1):
-            try:
-                action, _ = policy.predict(obs)
-            except BehaviorRuntimeError as exc:
-                raise BehaviorSpecError(f"dry run from reset seed {seed}, before primitive "
-                                        f"{step}: {exc}", "dry-run") from None
-            if action is None:
-                break
-            obs, _, terminated, truncated, _ = env.step(action)
-            if terminated or truncated:
-                break
+        result = run_episode(robust, policy, seed, stop_on_failure=False, max_primitives=steps)
+        if result.error is not None:
+            raise BehaviorSpecError(f"dry run from reset seed {seed}, before primitive "
+                                    f"{result.primitives + 1}: {result.reason}", "dry-run")
 
 
 def validate_reply(reply: str, env: gym.Env, library: BehaviorLibrary, name: str | None = None,

@@ -10,7 +10,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from vlb_gym.core.runtime import BehaviorPolicy, failure_cause
+from vlb_gym.core.runtime import failure_cause
 from vlb_gym.wrappers.robustness import RobustnessWrapper, certificate_cause
 
 
@@ -121,8 +121,10 @@ def interrupted(exc: BaseException) -> bool:
 
 def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 0,
                 stop_on_failure: bool = True,
-                on_step: Callable[[dict[str, Any]], None] | None = None) -> EpisodeResult:
-    """Run ``policy`` from ``env.reset(seed=seed)`` until it finishes or the episode ends.
+                on_step: Callable[[dict[str, Any]], None] | None = None,
+                max_primitives: int | None = None) -> EpisodeResult:
+    """Run ``policy`` from ``env.reset(seed=seed)`` until it finishes or the episode ends (or,
+    with ``max_primitives``, that many primitives ran: the episode then did not finish).
 
     Any exception from the policy or the environment fails this episode (rho_B = -1, with the
     reason) instead of propagating, except one a KeyboardInterrupt caused (:func:`interrupted`),
@@ -141,9 +143,7 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
         if on_step is not None:
             on_step(None)
         while env.summary is None:
-            action, state = policy.predict(obs)
-            if isinstance(policy, BehaviorPolicy):  # behaviors that finished: their promises
-                env.judge(policy.claims())
+            action, state = env.act(policy, obs)
             if action is None:
                 env.end(finished=True)
                 break
@@ -156,6 +156,9 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
                 on_step(info)
             if stop_on_failure and env.failed:
                 env.end(finished=False)
+            elif env.summary is None and len(steps) == max_primitives:
+                env.end(finished=False, reason=f"stopped after {max_primitives} primitives",
+                        cause="primitive limit")
     except Exception as exc:  # an episode's failure, never the campaign's end
         if interrupted(exc):  # Ctrl-C, not a failure: never stored as one
             raise KeyboardInterrupt from exc

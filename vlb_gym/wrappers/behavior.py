@@ -116,8 +116,7 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
         """Ask the behavior for its action on ``obs``: None when it has finished or failed."""
         self._obs, self._failure, self._cause = obs, None, None
         try:
-            self._action, _ = self.policy.predict(obs)
-            self.robustness.judge(self.policy.claims())
+            self._action, _ = self.robustness.act(self.policy, obs)
         except BehaviorRuntimeError as exc:
             self._action, self._failure = None, f"BehaviorRuntimeError: {exc}"
             self._cause = failure_cause(exc)

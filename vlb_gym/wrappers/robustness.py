@@ -8,6 +8,7 @@ from typing import Any
 import gymnasium as gym
 
 from vlb_gym.core.primitive import Failure
+from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.promise import Claim, judge
 
 
@@ -68,6 +69,16 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             info = {**info, **self.end(terminated, None if terminated else "truncated: step bound",
                                        None if terminated else "step bound")}
         return obs, reward, terminated, truncated, info
+
+    def act(self, policy: Any, observation: Any) -> tuple[Any, Any]:
+        """``policy.predict(observation)``: the next action (None once it has finished) and the
+        policy's state; a behavior's sub-behaviors (or itself) that have just finished hand
+        their promises to :meth:`judge`. The one decision step of every episode loop
+        (campaigns, the dry run, :class:`~vlb_gym.wrappers.behavior.BehaviorFinished`)."""
+        action, state = policy.predict(observation)
+        if isinstance(policy, BehaviorPolicy):
+            self.judge(policy.claims())
+        return action, state
 
     def judge(self, claims: Iterable[Claim]) -> None:
         """Judge the promises of behaviors that have just finished, with the true state and
