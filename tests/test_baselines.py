@@ -370,3 +370,12 @@ def test_the_random_floor_draws_uniformly_among_admissible_actions():
     report = run_campaign(CampaignConfig(FIND_GOAL, PolicyRef("random", "admissible"), 20, seed=1,
                                          env_kwargs=TASKS["find_goal"].env_kwargs))
     assert report["episodes"] == 20 and report["mean_primitives"] > 19  # the graph needs 19
+
+
+def test_the_comparison_table_rounds_bounds_down():
+    from vlb_gym.baselines.compare import Row, markdown
+
+    row = Row("find_goal", "x", "graph", None, 100, 99, 0.96292, 0.99969, 59, 19.0, None,
+              None, None, 1.0)
+    table = markdown([row], 100, 0)
+    assert "| 0.962 | 0.999 |" in table and "0.963" not in table

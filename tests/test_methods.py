@@ -127,9 +127,50 @@ def test_a_store_written_before_methods_had_names_resumes(tmp_path, legacy, meth
 
 
 def test_report_words_come_from_the_method():
-    plan_report = Report({"mode": "fixed-N", "epsilon": 0.05, "delta": 0.05,
+    plan_report = Report({"mode": "fixed-N", "epsilon": 0.05, "delta": 0.05, "complete": True,
                           "confidence": 0.951, "lower_bound": 0.9491}, None)
     assert FixedN.lines(plan_report) == [
         "  P[success] >= 0.95 with confidence 0.95100",
         f"  P[success] >= {bounds.floor_str(0.9491)} at confidence level 0.95 "
         "(one-sided Clopper-Pearson)"]
+
+
+@pytest.mark.parametrize("n, k, eps", [(100, 0, 0.05), (4000, 78, 0.05), (59, 2, 0.1),
+                                       (10**6, 0, 0.05)])
+def test_the_miss_probability_is_the_exact_complement_and_never_saturates(n, k, eps):
+    exact = binom.cdf(k, n, eps)
+    assert bounds.miss_probability(n, k, eps) == pytest.approx(exact, rel=1e-9, abs=1e-300)
+    claim = FixedN(eps, 0.05, n)
+    claim.feed([False] * k + [True] * (n - k))
+    assert claim.claim()["miss_probability"] == pytest.approx(exact, rel=1e-9, abs=1e-300)
+    if n == 4000:  # the case that printed confidence 1.0 in JSON
+        assert 0 < claim.claim()["miss_probability"] < 1e-15
+
+
+def test_an_incomplete_fixed_n_campaign_prints_no_guarantee():
+    method = FixedN(0.05, 0.05, 4000)
+    method.feed([True] * 640)
+    claim = method.claim()
+    assert not claim["complete"] and claim["statement"].startswith("no guarantee")
+    report = {"complete": False, "planned_episodes": 4000}
+    lines = FixedN.lines(report)
+    assert len(lines) == 1 and "no guarantee" in lines[0] and "confidence" not in lines[0]
+
+
+def test_a_cap_below_the_first_possible_certification_is_said_before_running():
+    assert Sequential(0.05, 0.05, 1180).earliest_certification() == 81
+    assert Sequential(0.05, 0.05, 1180).caveats() == []
+    (caveat,) = Sequential(0.05, 0.05, 70).caveats()
+    assert "nothing can be certified" in caveat and "before episode 81" in caveat
+
+
+def test_vlb_verify_warns_of_a_cap_that_cannot_certify(capsys):
+    from vlb_gym.cli import main
+
+    assert main(["verify", GRID, "--behavior", "find_goal_and_oscillate", "--sequential",
+                 "--max-episodes", "70", "--epsilon", "0.05", "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert "vlb verify: warning: with at most 70 episodes nothing can be certified" in \
+        captured.err
+    assert "UNDECIDED after 70 episodes" in captured.out
+    assert "A rerun with another seed is a new test" in captured.out

@@ -37,6 +37,7 @@ from pathlib import Path
 
 from vlb_gym.core.files import InputFileError, read_json_file, write_atomic
 from vlb_gym.core.library import BehaviorLibrary
+from vlb_gym.verify.bounds import floor_str
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 from vlb_gym.verify.policies import PolicyRef
 
@@ -311,7 +312,8 @@ def markdown(rows: list[Row], episodes: int, seed: int) -> str:
         lines.append(
             f"| {r.task} | {r.contestant} | {r.kind} | "
             f"{r.seed if r.seed is not None else '-'} | {r.successes}/{r.episodes} | "
-            f"{r.lower_bound:.3f} | {r.confidence:.3f} | {_certify_text(r.episodes_to_certify)} | "
+            f"{floor_str(r.lower_bound, 3)} | {floor_str(r.confidence, 3)} | "
+            f"{_certify_text(r.episodes_to_certify)} | "
             f"{r.mean_primitives:.1f} | {r.train_steps if r.train_steps is not None else '-'} | "
             f"{_number(r.train_seconds)} | {r.verify_seconds:.1f} |")
     return "\n".join(lines) + "\n"

@@ -68,6 +68,8 @@ def cmd_verify(args: argparse.Namespace) -> int:
     except ValueError as exc:  # errors name the file as the user did, not as the plan keeps it
         given = args.policy or args.behavior
         raise UsageError(str(exc).replace(config.policy.ref, given)) from None
+    for caveat in campaign.method().caveats():
+        print(f"vlb verify: warning: {caveat}", file=sys.stderr)
     inputs = [*campaign.files, *(store_files(args.store) if args.store else [])]
     export = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
               if args.episodes_out else None)

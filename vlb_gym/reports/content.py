@@ -53,6 +53,8 @@ def claim_blocks(report: dict[str, Any]) -> list[Block]:
 
 
 def _fixed_n_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:
+    if not report["complete"]:  # a part of a fixed-N campaign certifies nothing
+        return [Paragraph([Strong("No guarantee: "), str(report["statement"]), "."])]
     claim, level = bounds.one_minus_str(report["epsilon"]), bounds.one_minus_str(report["delta"])
     conf, low, delta = report["confidence"], report["lower_bound"], report["delta"]
     return [

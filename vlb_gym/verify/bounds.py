@@ -54,6 +54,21 @@ def confidence(n: int, k: int, epsilon: float) -> float:
     return float(binom.sf(float(k), float(n), epsilon))  # scipy takes no integers past 2**63
 
 
+def miss_probability(n: int, k: int, epsilon: float) -> float:
+    """``1 - confidence(n, k, epsilon)``, computed directly (``P[Binomial(n, eps) <= k]``): the
+    probability of at most k failures were P[success] exactly 1 - eps; it stays exact where the
+    confidence rounds to 1.0."""
+    _check(n, k)
+    _check_probability("epsilon", epsilon)
+    if k == 0:
+        return math.exp(float(int(n) * Fraction(math.log1p(-epsilon))))
+    if n > sys.float_info.max:
+        raise ValueError(f"more than {sys.float_info.max:.3g} episodes: beyond floating point")
+    from scipy.stats import binom
+
+    return float(binom.cdf(float(k), float(n), epsilon))
+
+
 def lower_bound(n: int, k: int, delta: float) -> float:
     """One-sided Clopper-Pearson lower bound on P[success] at confidence level 1 - delta."""
     _check(n, k)

@@ -16,6 +16,7 @@ method, never the name.
 from __future__ import annotations
 
 import abc
+import math
 from collections.abc import Iterable, Mapping
 from typing import Any, ClassVar
 
@@ -69,6 +70,11 @@ class Method(abc.ABC):
     def decided(self) -> bool:
         """Whether the campaign may stop now."""
 
+    def caveats(self) -> list[str]:
+        """What to tell the user before the campaign runs (a plan that cannot reach a
+        decision, say); none by default."""
+        return []
+
     @abc.abstractmethod
     def claim(self) -> dict[str, Any]:
         """The report's keys for the claim: at least ``complete``, ``confidence``,
@@ -97,13 +103,24 @@ class FixedN(Method):
     def claim(self) -> dict[str, Any]:
         eps, delta = self.epsilon, self.delta
         conf, low = _binomial(self.n, self.failures, eps, delta)
-        return {"complete": self.n == self.episodes, "confidence": conf, "lower_bound": low,
-                "statement": f"{_at_least(eps)} with confidence {bounds.floor_str(conf)}; "
-                             f"P[success] >= {bounds.floor_str(low)} at confidence level "
-                             f"{bounds.one_minus_str(delta)} (one-sided Clopper-Pearson)"}
+        complete = self.n == self.episodes
+        statement = (f"{_at_least(eps)} with confidence {bounds.floor_str(conf)}; "
+                     f"P[success] >= {bounds.floor_str(low)} at confidence level "
+                     f"{bounds.one_minus_str(delta)} (one-sided Clopper-Pearson)")
+        if not complete:
+            statement = (f"no guarantee: {self.n} of the {self.episodes} episodes fixed in "
+                         "advance ran, and which ones finished first is not random")
+        return {"complete": complete, "confidence": conf, "lower_bound": low,
+                "miss_probability": bounds.miss_probability(self.n, self.failures, eps)
+                if self.n else 1.0,
+                "statement": statement}
 
     @staticmethod
     def lines(report: Mapping[str, Any]) -> list[str]:
+        if not report["complete"]:  # the figures of a part would read as a guarantee
+            return [f"  no guarantee until all {report['planned_episodes']} episodes ran: the "
+                    "ones stored finished first (failures can end sooner), so their figures "
+                    "are not printed"]
         return [f"  {_at_least(report['epsilon'])} with confidence "
                 f"{bounds.floor_str(report['confidence'])}",
                 f"  P[success] >= {bounds.floor_str(report['lower_bound'])} at confidence level "
@@ -127,6 +144,23 @@ class Sequential(Method):
     def observe(self, success: bool) -> None:
         super().observe(success)
         self.test.update(success)
+
+    def earliest_certification(self) -> int | None:
+        """The first episode at which the test can certify (after that many successes and no
+        failure), None if not within the cap."""
+        test = sequential.SequentialTest(self.epsilon, self.delta)
+        for n in range(1, self.episodes + 1):
+            if test.update(True) is not None:
+                return n
+        return None
+
+    def caveats(self) -> list[str]:
+        if self.earliest_certification() is None:
+            return [f"with at most {self.episodes} episodes nothing can be certified: the test "
+                    f"cannot certify before episode "
+                    f"{Sequential(self.epsilon, self.delta, 10**6).earliest_certification()} "
+                    "(raise --max-episodes)"]
+        return []
 
     @property
     def decided(self) -> bool:
@@ -156,6 +190,7 @@ class Sequential(Method):
             "fixed_n_plan": FixedN.default_episodes(eps, delta),
             # the fixed-N keys, with their anytime-valid meaning in this mode
             "confidence": test.confidence(),
+            "miss_probability": min(1.0, math.exp(-test.best_log_evidence)),
             "lower_bound": low,
             "upper_bound": high,
             "statement": f"{words}; P[success] in [{bounds.floor_str(low)}, "
@@ -185,7 +220,9 @@ class Sequential(Method):
         else:
             head = (f"  UNDECIDED after {report['episodes']} episodes (the cap, --max-episodes): "
                     f"neither P[success] >= {p0} nor its negation is established; nothing is "
-                    "certified")
+                    "certified. A rerun with another seed is a new test: each may be wrong with "
+                    f"probability {report['delta']:g}, so r tests together up to r x "
+                    f"{report['delta']:g}")
         return [
             head,
             f"  anytime-valid: P[success] in [{bounds.floor_str(report['lower_bound'])}, "
