@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from scipy.stats import binom
 
 from vlb_gym.baselines.stats import aggregate, episodes_to_certify, iqm
+from vlb_gym.verify import bounds
 
 
 def test_iqm_is_the_mean_of_the_middle_half():
@@ -34,28 +35,54 @@ def test_the_bootstrap_interval_brackets_the_iqm_and_is_repeatable():
 
 
 def brute_force(rate: float, epsilon: float = 0.05, confidence: float = 0.95,
-                limit: int = 4000) -> int:
-    """The least N with P[Bin(N, eps) > floor(rate N)] >= confidence, by scanning N."""
-    n = np.arange(1, limit + 1)
-    reached = binom.sf(np.floor(rate * n), n, epsilon) >= confidence
-    assert reached.any()
-    return int(n[np.argmax(reached)])
+                probability: float = 0.9, limit: int = 6000) -> int:
+    """The least N at which P[a campaign of N certifies] >= probability, scanning N one by one
+    with the verifier's own confidence (k*: the most failures that still certify)."""
+    most = -1
+    for n in range(1, limit + 1):
+        while most + 1 < n and bounds.confidence(n, most + 1, epsilon) >= confidence:
+            most += 1
+        if most >= 0 and binom.cdf(most, n, rate) >= probability:
+            return n
+    raise AssertionError("not within the limit")
 
 
-@pytest.mark.parametrize("rate, expected", [(0.0, 59), (0.02, 93), (0.03, 260)])
+@pytest.mark.parametrize("rate, expected", [(0.0, 59), (0.01, 153), (0.02, 311), (0.03, 832)])
 def test_episodes_to_certify_hand_cases(rate, expected):
     assert episodes_to_certify(rate) == expected == brute_force(rate)
 
 
-@settings(max_examples=40, deadline=None)
-@given(rate=st.floats(0.0, 0.04), epsilon=st.sampled_from([0.05, 0.1]),
-       confidence=st.sampled_from([0.9, 0.95, 0.99]))
-def test_episodes_to_certify_equals_the_brute_force_scan(rate, epsilon, confidence):
-    assert episodes_to_certify(rate, epsilon, confidence) == \
-        brute_force(rate, epsilon, confidence, limit=12_000)
+@settings(max_examples=30, deadline=None)
+@given(rate=st.floats(0.0, 0.03), epsilon=st.sampled_from([0.05, 0.1]),
+       confidence=st.sampled_from([0.9, 0.95, 0.99]), probability=st.sampled_from([0.5, 0.9]))
+def test_episodes_to_certify_equals_the_brute_force_scan(rate, epsilon, confidence,
+                                                         probability):
+    assert episodes_to_certify(rate, epsilon, confidence, probability) == \
+        brute_force(rate, epsilon, confidence, probability)
+
+
+@pytest.mark.parametrize("rate", [0.01, 0.02, 0.03])
+def test_a_campaign_of_that_size_certifies_as_often_as_stated(rate):
+    n = episodes_to_certify(rate)
+    rng = np.random.default_rng(7)
+    failures = rng.binomial(n, rate, size=20_000)
+    certified = np.mean([bounds.confidence(n, int(k), 0.05) >= 0.95 for k in failures])
+    assert certified >= 0.9 - 3 * math.sqrt(0.9 * 0.1 / 20_000)
 
 
 def test_a_rate_at_or_above_epsilon_never_certifies():
     assert episodes_to_certify(0.05) == math.inf == episodes_to_certify(0.3)
     with pytest.raises(ValueError, match="failure_rate must lie in"):
         episodes_to_certify(-0.1)
+
+
+def test_seeds_are_described_as_far_as_they_support():
+    from vlb_gym.baselines.stats import describe
+
+    assert describe([0.98]) == "0.98"
+    assert describe([0.88, 0.77, 0.82]) == "mean 0.82; seeds 0.77, 0.82, 0.88"  # no interval
+    assert describe([0.1, 0.2, 0.3, 0.9]) == "IQM 0.25; seeds 0.10, 0.20, 0.30, 0.90"
+    ten = [0.80, 0.82, 0.84, 0.85, 0.86, 0.88, 0.90, 0.91, 0.93, 0.99]
+    text = describe(ten)
+    agg = aggregate(ten)
+    assert text == f"IQM {agg.iqm:.2f} [{agg.low:.2f}, {agg.high:.2f}]"

@@ -9,9 +9,11 @@ checkpointed at every budget, each verified as it acts: ``greedy`` (the most lik
 policy kind ``sb3``) and ``sampled`` (drawn from its distribution, seeded per episode,
 ``sb3_sampled``). Each is verified on the same N episodes; a row gives successes,
 the one-sided Clopper-Pearson lower bound, the confidence at eps, mean primitives and the
-**episodes needed to certify** P >= 1 - eps at 95% confidence given the row's failure rate
-(:func:`~.stats.episodes_to_certify`). Across seeds, the summary gives the IQM of the success
-rate with a bootstrap interval (:func:`~.stats.aggregate`).
+**episodes needed to certify** P >= 1 - eps at 95% confidence: the least N at which a campaign
+certifies with probability 90% were the row's measured failure rate the true one
+(:func:`~.stats.episodes_to_certify`; the rate's own uncertainty is not counted). Across seeds,
+the summary describes the success rate as :func:`~.stats.describe` does: an IQM with its
+bootstrap interval from 10 seeds on, else the mean and every seed.
 
 Writes ``<out>/compare.md`` (the tables), ``compare.csv`` and ``compare.json`` (one row per
 verified contestant), ``compare.png`` (success rate and lower bound against training steps,
@@ -43,7 +45,8 @@ from vlb_gym.verify.policies import PolicyRef
 
 from .configs import (ACTING, DEFAULT_AGENTS, DEFAULT_TASKS, SYNTHESES, TASKS, AgentSpec,
                       TaskConfig)
-from .stats import aggregate, episodes_to_certify
+from .stats import (CERTIFY_PROBABILITY, MIN_SEEDS_FOR_INTERVAL, aggregate, describe,
+                    episodes_to_certify)
 
 EPSILON = 0.05
 DELTA = 0.05
@@ -279,6 +282,7 @@ def summary(rows: list[Row]) -> list[dict]:
         speeds = [m.steps_per_second for m in members if m.steps_per_second]
         out.append({"task": task, "contestant": contestant, "kind": kind, "steps": steps,
                     "runs": agg.runs, "iqm": agg.iqm, "low": agg.low, "high": agg.high,
+                    "text": describe([m.success_rate for m in members]),
                     "best": max(m.successes for m in members), "episodes": members[0].episodes,
                     "certify": certify[(len(certify) - 1) // 2],
                     "steps_per_second": sum(speeds) / len(speeds) if speeds else None})
@@ -288,20 +292,23 @@ def summary(rows: list[Row]) -> list[dict]:
 def markdown(rows: list[Row], episodes: int, seed: int) -> str:
     lines = [f"N = {episodes} episodes per contestant, the same reset seeds (campaign seed "
              f"{seed}); eps = {EPSILON}, lower bound at confidence {1 - DELTA:g} (one-sided "
-             f"Clopper-Pearson); *episodes to certify*: the least N that certifies "
-             f"P >= {1 - EPSILON:g} at {CERTIFY_CONFIDENCE:.0%} confidence with the failures the "
-             f"row's rate predicts. Machine: {platform.machine()}, Python "
+             f"Clopper-Pearson); *episodes to certify*: the least N at which a campaign "
+             f"certifies P >= {1 - EPSILON:g} at {CERTIFY_CONFIDENCE:.0%} confidence with "
+             f"probability {CERTIFY_PROBABILITY:.0%}, were the row's measured failure rate the "
+             "true one (its own uncertainty, from the row's episodes, is not counted). Machine: {platform.machine()}, Python "
              f"{platform.python_version()}.", "",
-             "Across training seeds (IQM of the success rate, 95% percentile-bootstrap interval; "
-             "episodes to certify: the median seed's):", "",
-             "| task | contestant | kind | training steps | seeds | success IQM [95% CI] | "
+             "Across training seeds (the success rate's IQM with a 95% percentile-bootstrap "
+             f"interval from {MIN_SEEDS_FOR_INTERVAL} seeds on; with fewer, its mean and every "
+             "seed's value, since a bootstrap of a few runs covers far less than 95%; episodes to "
+             "certify: the median seed's):", "",
+             "| task | contestant | kind | training steps | seeds | success rate | "
              "best seed | episodes to certify | env steps/s |",
              "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: |"]
     for s in summary(rows):
         lines.append(
             f"| {s['task']} | {s['contestant']} | {s['kind']} | "
             f"{s['steps'] if s['steps'] is not None else '-'} | {s['runs']} | "
-            f"{s['iqm']:.2f} [{s['low']:.2f}, {s['high']:.2f}] | {s['best']}/{s['episodes']} | "
+            f"{s['text']} | {s['best']}/{s['episodes']} | "
             f"{_certify_text(s['certify'])} | {_number(s['steps_per_second'])} |")
     lines += ["", "Every contestant:", "",
               "| task | contestant | kind | seed | successes | lower bound | confidence "

@@ -6,9 +6,10 @@ percentile bootstrap confidence interval over runs (with one task, rliable's str
 is this bootstrap). Computed with scipy, the package's core dependency: rliable 1.2 pins
 ``arch < 8``, which does not import under pandas 3.
 
-:func:`episodes_to_certify` turns an empirical failure rate into what a user must pay to certify
-P[success] >= 1 - eps at a confidence: the least N that certifies when the campaign sees the
-failures it should expect. It is ``vlb plan`` with the contestant's own k.
+:func:`episodes_to_certify` turns a failure rate into what a user must pay to certify
+P[success] >= 1 - eps at a confidence: the least N at which a fixed-N campaign certifies with a
+stated probability (90% by default), computed exactly from the binomial. Given a rate measured on
+a few episodes it treats that rate as the true one: the rate's own uncertainty is not counted.
 """
 
 from __future__ import annotations
@@ -23,8 +24,11 @@ from scipy import stats
 from vlb_gym.verify.bounds import min_episodes
 
 TRIM = 0.25
-MAX_FAILURES = 2000
-"""The scan of :func:`episodes_to_certify` stops here (about 40,000 episodes at eps = 0.05)."""
+CERTIFY_PROBABILITY = 0.9
+"""How sure a user wants to be that a campaign of the stated N certifies."""
+MAX_EPISODES = 1_000_000
+"""The scan of :func:`episodes_to_certify` stops here."""
+_BLOCK = 4096
 
 
 def iqm(scores: Sequence[float]) -> float:
@@ -33,6 +37,26 @@ def iqm(scores: Sequence[float]) -> float:
     if values.size == 0:
         raise ValueError("no scores")
     return float(stats.trim_mean(values, TRIM))
+
+
+MIN_SEEDS_FOR_INTERVAL = 10
+"""Below this many seeds no interval is shown: a percentile bootstrap of 3 runs has 10 distinct
+resamples, its 95% interval is the runs' range, and for normal seeds it covered the true IQM
+76% of the time (93% with 10 seeds; 1,000 simulated sets each)."""
+
+
+def describe(scores: Sequence[float]) -> str:
+    """Scores across seeds in words that claim no more than they hold: the IQM where 25%
+    trimming removes a run at each end (else the mean, which it then is), with its 95%
+    bootstrap interval from :data:`MIN_SEEDS_FOR_INTERVAL` seeds on, else every seed's value."""
+    values = sorted(float(s) for s in scores)
+    if len(values) == 1:  # one campaign (a graph): its rate
+        return f"{values[0]:.2f}"
+    centre = f"{'IQM' if int(TRIM * len(values)) > 0 else 'mean'} {iqm(values):.2f}"
+    if len(values) >= MIN_SEEDS_FOR_INTERVAL:
+        agg = aggregate(values)
+        return f"{centre} [{agg.low:.2f}, {agg.high:.2f}]"
+    return f"{centre}; seeds " + ", ".join(f"{v:.2f}" for v in values)
 
 
 @dataclass(frozen=True)
@@ -61,22 +85,31 @@ def aggregate(scores: Sequence[float], confidence: float = 0.95, resamples: int 
     return Aggregate(centre, float(interval.low), float(interval.high), values.size)
 
 
-def episodes_to_certify(failure_rate: float, epsilon: float = 0.05,
-                        confidence: float = 0.95) -> float:
-    """The least N whose campaign certifies P[success] >= 1 - ``epsilon`` at ``confidence``
-    when it sees ``floor(failure_rate * N)`` failures (what the contestant's rate predicts);
-    ``math.inf`` when none does (a rate of ``epsilon`` or more) or the scan passes
-    ``MAX_FAILURES`` failures.
+def episodes_to_certify(failure_rate: float, epsilon: float = 0.05, confidence: float = 0.95,
+                        probability: float = CERTIFY_PROBABILITY) -> float:
+    """The least N at which a campaign of N episodes, each failing independently with
+    probability ``failure_rate``, certifies P[success] >= 1 - ``epsilon`` at ``confidence``
+    with probability at least ``probability``; ``math.inf`` when none does within
+    :data:`MAX_EPISODES` (a rate of ``epsilon`` or more never does).
 
-    With ``N_k`` the least N certifying with k failures (``vlb plan --failures k``), the answer
-    is ``N_k`` for the least k with ``floor(failure_rate * N_k) <= k``: any N certifying with
-    its predicted failures k is at least ``N_k``, and ``N_k`` grows with k."""
+    With ``k*(N)`` the most failures that still certify at N (the largest k with
+    ``binom.sf(k, N, eps) >= confidence``), a campaign certifies with probability
+    ``binom.cdf(k*(N), N, rate)``, which is not monotone in N (it drops each time N grows
+    without ``k*`` growing): the answer is the first N where it reaches ``probability``."""
     if not 0 <= failure_rate <= 1:
         raise ValueError(f"failure_rate must lie in [0, 1] (got {failure_rate!r})")
+    if not 0 < probability < 1:
+        raise ValueError(f"probability must lie strictly between 0 and 1 (got {probability!r})")
     if failure_rate >= epsilon:
         return math.inf
-    for k in range(MAX_FAILURES + 1):
-        n = min_episodes(epsilon, confidence, k)
-        if math.floor(failure_rate * n) <= k:
-            return n
+    q = 1.0 - confidence
+    first = min_episodes(epsilon, confidence, 0)
+    for start in range(first, MAX_EPISODES + 1, _BLOCK):
+        n = np.arange(start, min(start + _BLOCK, MAX_EPISODES + 1), dtype=float)
+        least = stats.binom.ppf(q, n, epsilon)  # the smallest k with cdf(k) >= q
+        most = np.where(stats.binom.cdf(least, n, epsilon) <= q, least, least - 1)
+        certifies = np.where(most >= 0, stats.binom.cdf(most, n, failure_rate), 0.0)
+        hit = certifies >= probability
+        if hit.any():
+            return int(n[np.argmax(hit)])
     return math.inf
