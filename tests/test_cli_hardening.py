@@ -485,3 +485,26 @@ def test_user_errors_are_one_line_without_traceback(args):
     assert proc.stderr.startswith(f"vlb {args[0]}: error: ") and proc.stderr.count("\n") == 1, \
         proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+@pytest.mark.parametrize("argv", [
+    ["synthesize", GRID, "explore", "--name", "../../x", "--scripted", "replies.json"],
+    ["scoop-setup", "--name", "/tmp/elsewhere"],
+    ["synthesize", GRID, "explore", "--name", "a" * 65, "--scripted", "replies.json"],
+])
+def test_a_behavior_name_that_is_a_path_is_refused_where_it_is_given(argv, capsys, tmp_path,
+                                                                     monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exit_:
+        main(argv)
+    assert exit_.value.code == 2
+    one_line_error(capsys, "--name", "is not a behavior name")
+    assert list(tmp_path.iterdir()) == []  # nothing written anywhere
+
+
+def test_an_episode_index_beyond_any_store_is_one_line(tmp_path, capsys):
+    store = tmp_path / "s.db"
+    assert verify("--store", str(store)) == 0
+    capsys.readouterr()
+    assert main(["replay", str(store), "--episode", str(2**70)]) == 2
+    one_line_error(capsys, "episode", "not stored")

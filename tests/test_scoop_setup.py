@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from vlb_gym.envs.scoop.setup import (ScoopSetup, SetupError, Translate, parse_command,
-                                            parse_reply)
+                                      parse_reply)
 from vlb_gym.cli import main
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
@@ -83,3 +83,19 @@ def test_unreachable_moves_leave_the_pose_alone(tmp_path):
     with pytest.raises(SetupError, match="no pose saved"):
         session.save_behavior(BehaviorLibrary(tmp_path / "lib"), "x")
     env.close()
+
+
+def test_a_saved_pose_stays_inside_the_primitives_space(monkeypatch, tmp_path, user_library,
+                                                        capsys):
+    """The default pose's roll is pi: written rounded (3.1416) it left the space, and every
+    episode of the saved behavior failed."""
+    monkeypatch.setattr("sys.stdin", io.StringIO("save\nquit\n"))
+    assert main(["scoop-setup", "--name", "as_is", "--images", str(tmp_path)]) == 0
+    capsys.readouterr()
+    pose = saved_pose(user_library, "as_is")
+    env = gym.make("VLB-Scoop-v0").unwrapped
+    try:
+        space = env.primitives["scoop"].param_space
+        assert space.contains(pose.astype(space.dtype)), (pose, space)
+    finally:
+        env.close()

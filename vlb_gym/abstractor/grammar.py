@@ -34,7 +34,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-from vlb_gym.core.spec import IDENTIFIER_PATTERN
+from vlb_gym.core.names import IDENTIFIER_PATTERN
 
 MAX_STRING_LENGTH = 300
 """The ``maxLength`` of descriptions, the longest in the request schema (a task description

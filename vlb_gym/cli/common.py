@@ -88,6 +88,16 @@ def count(minimum: int) -> Callable[[str], int]:
     return parse
 
 
+def behavior_name(text: str) -> str:
+    """A ``--name``: a behavior name, never a path (checked where it is given)."""
+    from vlb_gym.core.names import is_name
+
+    if not is_name(text):
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a behavior name: a letter, then letters, digits and _ (64 at most)")
+    return text
+
+
 def env_kwargs(pairs: list[str]) -> dict[str, Any]:
     kwargs = {}
     for pair in pairs:

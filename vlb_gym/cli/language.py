@@ -13,8 +13,8 @@ import gymnasium as gym
 
 from vlb_gym.core.files import read_limited, write_atomic
 
-from .common import (UsageError, add_env_module, add_model_options, check_env, check_output,
-                     count, env_modules, probability)
+from .common import (UsageError, add_env_module, add_model_options, behavior_name, check_env,
+                     check_output, count, env_modules, probability)
 from .library import graph_text
 
 if TYPE_CHECKING:
@@ -287,7 +287,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "paper's string I)")
     y.add_argument("--uses", nargs="+", default=[], metavar="BEHAVIOR",
                    help="existing behaviors the new one should build on")
-    y.add_argument("--name", help="name of the new behavior; if the library has it already, it "
+    y.add_argument("--name", type=behavior_name, help="name of the new behavior; if the library has it already, it "
                    "is used and the model is not asked")
     y.add_argument("--out", metavar="FILE", help="write here instead of the user library")
     y.add_argument("--force", action="store_true", help="replace an existing file")
@@ -315,7 +315,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                        "model, by typing those commands; each move writes the wrist camera's "
                        "view to an image. The saved pose becomes the sensing pose of a copy of "
                        "scoop_repeatedly in the behavior library. Reads requests from stdin.")
-    z.add_argument("--name", default="my_scoop", help="name of the behavior to write")
+    z.add_argument("--name", type=behavior_name, default="my_scoop", help="name of the behavior to write")
     z.add_argument("--images", default="scoop_setup", metavar="DIR",
                    help="where the camera views go")
     z.add_argument("--seed", type=count(0), default=0, help="which container placement to show")

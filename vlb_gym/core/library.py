@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import re
 from importlib import resources
 from pathlib import Path
 
@@ -20,10 +19,10 @@ from .compiler import CompiledBehavior, compile_behavior
 from .env import PrimitiveEnv
 from .runtime import BehaviorPolicy
 from .files import InputFileError, read_limited, write_atomic
-from .spec import IDENTIFIER_PATTERN, BehaviorSpec, BehaviorSpecError, parse_spec
+from .names import is_name
+from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
 
 SHIPPED = "vlb_gym.behaviors"
-_NAME = re.compile(IDENTIFIER_PATTERN)
 
 
 def user_dir() -> Path:
@@ -87,7 +86,7 @@ class BehaviorLibrary:
                      ) -> tuple[BehaviorSpec, str, Path | None]:
         """Load the library behavior named ``ref``; paths are refused (what a behavior from a
         language model may reference). ``base_dir`` is ignored: names need none."""
-        if not _NAME.fullmatch(ref):
+        if not is_name(ref):
             raise BehaviorSpecError(f"{ref!r} is not a behavior name: only behaviors of the "
                                     f"library can be referenced, by name "
                                     f"({', '.join(self.names())})")

@@ -32,10 +32,10 @@ from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, StringConstr
                       ValidationError, model_validator)
 
 from .files import InputFileError, load_json
+from .names import IDENTIFIER_PATTERN, MAX_NAME_LENGTH
 
-IDENTIFIER_PATTERN = r"^[A-Za-z][A-Za-z0-9_]*$"
-"""Names of behaviors, nodes, variables and functions."""
-Identifier = Annotated[str, StringConstraints(pattern=IDENTIFIER_PATTERN, max_length=64)]
+Identifier = Annotated[str, StringConstraints(pattern=IDENTIFIER_PATTERN,
+                                              max_length=MAX_NAME_LENGTH)]
 ExpressionText = Annotated[str, StringConstraints(min_length=1, max_length=2000)]
 
 _UNPRINTABLE = ("Cc", "Cf", "Zl", "Zp")  # controls, format (bidi overrides), line breaks

@@ -156,6 +156,8 @@ class CampaignStore:
 
     def result(self, index: int) -> EpisodeResult | None:
         """Stored episode ``index``, if it is stored."""
+        if not 0 <= index < 2**63:  # beyond SQLite's integers: no row can have it
+            return None
         rows = self._rows("SELECT idx, record FROM episodes WHERE idx = ?", index)
         return self._decode(*rows[0]) if rows else None
 

@@ -193,7 +193,8 @@ class ScoopSetup:
         if self.saved is None:
             raise SetupError("no pose saved yet: say so (or type 'save') when the view is right")
         spec = library.resolve("scoop_repeatedly")[0]
-        pose = "(" + ", ".join(f"{v:.4f}" for v in self.saved) + ")"
+        # exact (repr), never rounded: a roll of pi rounded to 3.1416 leaves the parameter space
+        pose = "(" + ", ".join(repr(float(v)) for v in self.saved) + ")"
         spec = spec.model_copy(update={
             "name": name, "variables": {**spec.variables, "sensing_pose": pose},
             "description": f"scoop_repeatedly from the sensing pose {pose} chosen with "
