@@ -174,3 +174,25 @@ def test_vlb_verify_warns_of_a_cap_that_cannot_certify(capsys):
         captured.err
     assert "UNDECIDED after 70 episodes" in captured.out
     assert "A rerun with another seed is a new test" in captured.out
+
+
+def test_a_sequential_store_with_a_gap_is_refused_in_one_line(tmp_path, capsys):
+    from vlb_gym.cli import main
+
+    path = tmp_path / "seq.db"
+    args = ["verify", GRID, "--behavior", FIXED_CELL, "--sequential", "--epsilon", "0.5",
+            "--store", str(path), "--quiet"]
+    assert main(args) == 0
+    with sqlite3.connect(path) as db:
+        db.execute("DELETE FROM episodes WHERE idx = 4")
+    capsys.readouterr()
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "are not the first" in err and "Traceback" not in err
+
+
+def test_the_earliest_certification_is_the_tests_own():
+    for eps, delta in ((0.05, 0.05), (0.1, 0.01), (0.01, 0.05)):
+        method = Sequential(eps, delta, 10**6)
+        n = method.earliest_certification()
+        assert method.feed([True] * (n + 5)) == n and method.claim()["decision"] == "certified"

@@ -222,6 +222,10 @@ def test_an_episode_capped_in_primitives_stops_unfinished():
     assert capped.cause == "primitive limit" and capped.error is None
     whole = run_episode(env, policy, 3)
     assert whole.finished and whole.primitives > 3
+    exactly = run_episode(env, policy, 3, max_primitives=whole.primitives)
+    assert exactly.finished and exactly.rho == 1  # finishing on the cap is finishing
+    with pytest.raises(ValueError, match="max_primitives"):
+        run_episode(env, policy, 3, max_primitives=-1)
     assert [s["param"] for s in whole.steps[:3]] == [s["param"] for s in capped.steps]
 
 

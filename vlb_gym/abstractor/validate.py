@@ -45,9 +45,10 @@ def dry_run(compiled: CompiledBehavior, env: gym.Env, seeds=DRY_RUN_SEEDS,
     policy = BehaviorPolicy(compiled, env.unwrapped)
     for seed in seeds:
         result = run_episode(robust, policy, seed, stop_on_failure=False, max_primitives=steps)
-        if result.error is not None:
+        if result.error is not None:  # the exception itself, not an earlier failed certificate
             raise BehaviorSpecError(f"dry run from reset seed {seed}, before primitive "
-                                    f"{result.primitives + 1}: {result.reason}", "dry-run")
+                                    f"{result.primitives + 1}: "
+                                    f"{result.error.strip().splitlines()[-1]}", "dry-run")
 
 
 def validate_reply(reply: str, env: gym.Env, library: BehaviorLibrary, name: str | None = None,

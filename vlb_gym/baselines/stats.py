@@ -98,6 +98,9 @@ def episodes_to_certify(failure_rate: float, epsilon: float = 0.05, confidence: 
     without ``k*`` growing): the answer is the first N where it reaches ``probability``."""
     if not 0 <= failure_rate <= 1:
         raise ValueError(f"failure_rate must lie in [0, 1] (got {failure_rate!r})")
+    for name, value in (("epsilon", epsilon), ("confidence", confidence)):
+        if not 0 < value < 1:
+            raise ValueError(f"{name} must lie strictly between 0 and 1 (got {value!r})")
     if not 0 < probability < 1:
         raise ValueError(f"probability must lie strictly between 0 and 1 (got {probability!r})")
     if failure_rate >= epsilon:

@@ -34,6 +34,7 @@ def _open_store(path: Path, campaign):
         raise UsageError(f"--store {exc}") from None
     try:
         store.start(campaign.plan)
+        campaign.stored(store)
     except StoreError as exc:
         store.close()
         raise UsageError(f"--store {exc}") from None
@@ -95,10 +96,14 @@ def cmd_verify(args: argparse.Namespace) -> int:
             bar.update()
 
     report = None
+    from vlb_gym.verify.store import StoreError
+
     try:
         report = campaign.run(workers, on_episode, store, args.backend, args.ray_address)
     except KeyboardInterrupt:  # the workers ignore Ctrl-C; leaving the run stops them
         pass
+    except StoreError as exc:  # what the stored episodes turned out to be
+        raise UsageError(f"--store {exc}") from None
     finally:
         if bar:
             bar.close()

@@ -43,13 +43,19 @@ def claim_blocks(report: dict[str, Any]) -> list[Block]:
     where: list[Inline] = ["For start/environment pairs drawn from the sampling distribution (",
                            str(report.get("sampling_distribution", "not recorded")), "), ",
                            *subject(report)]
-    blocks: list[Block] = [Heading(2, "The claim"), *CLAIMS[report["mode"]](report, where)]
+    claim = CLAIMS.get(report["mode"], _stated_claim)
+    blocks: list[Block] = [Heading(2, "The claim"), *claim(report, where)]
     n, planned = report["episodes"], report.get("planned_episodes")
     if planned is not None and planned != n:
         blocks.append(Paragraph([Strong("Incomplete campaign: "),
                                  f"{n} of {planned} planned episodes were stored; the figures "
                                  "describe those only."]))
     return blocks
+
+
+def _stated_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:
+    """A method without paragraphs of its own: its statement."""
+    return [Paragraph([*where, ": ", str(report["statement"]), "."])]
 
 
 def _fixed_n_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:

@@ -193,7 +193,7 @@ class Campaign:
         results: list[EpisodeResult] = []
         if store is not None:
             store.start(self.plan)
-            stored = store.results()
+            stored = self.stored(store)
             results = stored[:method.feed(r.success for r in stored)]
         resumed = len(results)
         consumers = [f for f in (store.add if store is not None else None, on_episode) if f]
@@ -203,6 +203,17 @@ class Campaign:
             results += self._feed(method, todo, workers, backend, ray_address, consumers)
         return Report.build(self.plan, results, time.perf_counter() - started, workers, backend,
                             None if store is None else str(store.path), len(results) - resumed)
+
+    def stored(self, store: CampaignStore) -> list[EpisodeResult]:
+        """The episodes ``store`` holds, checked against what the method needs (StoreError):
+        a method that stops early saw its episodes in index order, so they are 0..k-1."""
+        stored = store.results()
+        method = self.method()
+        if method.stops_early and [r.index for r in stored] != list(range(len(stored))):
+            raise StoreError(f"{store.path}: the stored episodes are not the first "
+                             f"{len(stored)} of the campaign, which its {method.name} test "
+                             "needs in order: the store was edited or damaged")
+        return stored
 
     def _feed(self, method: Method, todo: list[int], workers: int, backend: str,
               ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]

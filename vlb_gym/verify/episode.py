@@ -132,6 +132,8 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     certificate, since rho_B is then already -1. ``on_step`` is called with None after the
     reset and with every step's info after the step.
     """
+    if max_primitives is not None and (not isinstance(max_primitives, int) or max_primitives < 0):
+        raise ValueError(f"max_primitives must be a non-negative integer (got {max_primitives!r})")
     started = time.perf_counter()
     steps: list[dict[str, Any]] = []
     start: dict[str, Any] = {}
@@ -150,15 +152,16 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
             if stop_on_failure and env.failed:  # a sub-behavior broke its promise
                 env.end(finished=False)
                 break
+            if max_primitives is not None and len(steps) >= max_primitives:
+                env.end(finished=False, reason=f"stopped after {max_primitives} primitives",
+                        cause="primitive limit")
+                break
             obs, _, _, _, info = env.step(action)
             steps.append(step_record(info, state if isinstance(state, str) else None))
             if on_step is not None:
                 on_step(info)
             if stop_on_failure and env.failed:
                 env.end(finished=False)
-            elif env.summary is None and len(steps) == max_primitives:
-                env.end(finished=False, reason=f"stopped after {max_primitives} primitives",
-                        cause="primitive limit")
     except Exception as exc:  # an episode's failure, never the campaign's end
         if interrupted(exc):  # Ctrl-C, not a failure: never stored as one
             raise KeyboardInterrupt from exc

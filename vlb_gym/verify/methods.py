@@ -34,6 +34,8 @@ class Method(abc.ABC):
     def __init__(self, epsilon: float, delta: float, episodes: int):
         bounds._check_probability("epsilon", epsilon)
         bounds._check_probability("delta", delta)
+        if not isinstance(episodes, int) or isinstance(episodes, bool) or episodes < 1:
+            raise ValueError(f"episodes must be a positive integer (got {episodes!r})")
         self.epsilon, self.delta, self.episodes = epsilon, delta, episodes
         self.successes = self.failures = 0
 
@@ -145,21 +147,30 @@ class Sequential(Method):
         super().observe(success)
         self.test.update(success)
 
-    def earliest_certification(self) -> int | None:
-        """The first episode at which the test can certify (after that many successes and no
-        failure), None if not within the cap."""
-        test = sequential.SequentialTest(self.epsilon, self.delta)
-        for n in range(1, self.episodes + 1):
-            if test.update(True) is not None:
-                return n
-        return None
+    def earliest_certification(self) -> int:
+        """The first episode at which the test can certify: after that many successes and no
+        failure (``log M_n(1 - eps)`` grows with n along that path; doubling, then
+        bisection)."""
+        a, b = sequential.prior(self.epsilon)
+        p0, threshold = 1.0 - self.epsilon, -math.log(self.delta)
+
+        def certifies(n: int) -> bool:
+            return sequential.log_mixture(n, 0, p0, a, b) >= threshold
+
+        high = 1
+        while not certifies(high):
+            high *= 2
+        low = high // 2  # certifies(low) is False (or low is 0)
+        while high - low > 1:
+            middle = (low + high) // 2
+            low, high = (low, middle) if certifies(middle) else (middle, high)
+        return high
 
     def caveats(self) -> list[str]:
-        if self.earliest_certification() is None:
+        earliest = self.earliest_certification()
+        if earliest > self.episodes:
             return [f"with at most {self.episodes} episodes nothing can be certified: the test "
-                    f"cannot certify before episode "
-                    f"{Sequential(self.epsilon, self.delta, 10**6).earliest_certification()} "
-                    "(raise --max-episodes)"]
+                    f"cannot certify before episode {earliest} (raise --max-episodes)"]
         return []
 
     @property
