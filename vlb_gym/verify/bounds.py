@@ -43,30 +43,30 @@ def _check_probability(name: str, value: float) -> None:
 
 def confidence(n: int, k: int, epsilon: float) -> float:
     """Confidence that P[success] >= 1 - epsilon after n episodes with k failures."""
-    _check(n, k)
-    _check_probability("epsilon", epsilon)
-    if k == 0:  # n * log1p(-eps) exactly, rounded once: n may exceed the float range
-        return -math.expm1(float(int(n) * Fraction(math.log1p(-epsilon))))
-    if n > sys.float_info.max:
-        raise ValueError(f"more than {sys.float_info.max:.3g} episodes: beyond floating point")
-    from scipy.stats import binom  # here, not at the top: it takes 0.4 s to import (campaign
-    # workers and the CLI import this module; a campaign without failures never needs scipy)
-    return float(binom.sf(float(k), float(n), epsilon))  # scipy takes no integers past 2**63
+    return _tail(n, k, epsilon, upper=True)
 
 
 def miss_probability(n: int, k: int, epsilon: float) -> float:
     """``1 - confidence(n, k, epsilon)``, computed directly (``P[Binomial(n, eps) <= k]``): the
     probability of at most k failures were P[success] exactly 1 - eps; it stays exact where the
     confidence rounds to 1.0."""
+    return _tail(n, k, epsilon, upper=False)
+
+
+def _tail(n: int, k: int, epsilon: float, upper: bool) -> float:
+    """``P[Binomial(n, eps) > k]`` (``upper``) or ``P[Binomial(n, eps) <= k]``, each computed
+    directly so that neither is one minus a rounded other."""
     _check(n, k)
     _check_probability("epsilon", epsilon)
-    if k == 0:
-        return math.exp(float(int(n) * Fraction(math.log1p(-epsilon))))
+    if k == 0:  # n * log1p(-eps) exactly, rounded once: n may exceed the float range
+        log_none = float(int(n) * Fraction(math.log1p(-epsilon)))
+        return -math.expm1(log_none) if upper else math.exp(log_none)
     if n > sys.float_info.max:
         raise ValueError(f"more than {sys.float_info.max:.3g} episodes: beyond floating point")
-    from scipy.stats import binom
-
-    return float(binom.cdf(float(k), float(n), epsilon))
+    from scipy.stats import binom  # here, not at the top: it takes 0.4 s to import (campaign
+    # workers and the CLI import this module; a campaign without failures never needs scipy)
+    tail = binom.sf if upper else binom.cdf
+    return float(tail(float(k), float(n), epsilon))  # scipy takes no integers past 2**63
 
 
 def lower_bound(n: int, k: int, delta: float) -> float:

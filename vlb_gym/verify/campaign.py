@@ -208,7 +208,7 @@ class Campaign:
         """The episodes ``store`` holds, checked against what the method needs (StoreError):
         a method that stops early saw its episodes in index order, so they are 0..k-1."""
         stored = store.results()
-        method = self.method()
+        method = method_named(self.config.method)
         if method.stops_early and [r.index for r in stored] != list(range(len(stored))):
             raise StoreError(f"{store.path}: the stored episodes are not the first "
                              f"{len(stored)} of the campaign, which its {method.name} test "

@@ -58,9 +58,7 @@ a clearly bad behavior is refuted early.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any
 
 from . import bounds
 
@@ -182,16 +180,6 @@ class SequentialTest:
         if self.best_log_evidence <= 0:
             return 0.0
         return -math.expm1(-self.best_log_evidence)
-
-
-def replay(epsilon: float, delta: float, results: Iterable[Any]) -> SequentialTest:
-    """The test fed ``results`` (episode records with ``success``, in index order) until it
-    decided: how a stored sequential campaign resumes and rebuilds its report."""
-    test = SequentialTest(epsilon, delta)
-    for result in results:
-        if test.update(result.success) is not None:
-            break
-    return test
 
 
 def guarantee(epsilon: float, delta: float) -> str:
