@@ -196,3 +196,8 @@ def test_the_earliest_certification_is_the_tests_own():
         method = Sequential(eps, delta, 10**6)
         n = method.earliest_certification()
         assert method.feed([True] * (n + 5)) == n and method.claim()["decision"] == "certified"
+
+
+def test_a_tiny_epsilon_caveat_names_a_finite_episode_at_once():
+    (caveat,) = Sequential(1e-12, 0.05, 5).caveats()  # by bisection, not a scan of 10^12
+    assert int(caveat.split("before episode ")[1].split()[0]) > 10**12
