@@ -12,7 +12,7 @@ import sys
 
 import vlb_gym
 
-from . import baselines, language, library, replay, report, verify
+from . import baselines, compare, language, library, replay, report, verify
 from .common import Parser, UsageError
 
 
@@ -22,7 +22,7 @@ def parser() -> Parser:
         "i.i.d. episodes and turn them into probabilistic guarantees.")
     top.add_argument("--version", action="version", version=f"vlb-gym {vlb_gym.__version__}")
     sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for module in (verify, report, replay, library, language, baselines):
+    for module in (verify, compare, report, replay, library, language, baselines):
         module.add_parsers(sub)
     return top
 

@@ -66,6 +66,14 @@ def fraction(text: str) -> float:
     return value
 
 
+def fraction_below_one(text: str) -> float:
+    """A number in [0, 1)."""
+    value = fraction(text)
+    if value == 1:
+        raise argparse.ArgumentTypeError(f"{text} must be below 1")
+    return value
+
+
 def seconds(text: str) -> float:
     try:
         value = float(text)
@@ -252,23 +260,30 @@ AGENT_KINDS = {False: "sb3", True: "sb3_sampled"}  # by --sample: the policy kin
 def policy_ref(args: argparse.Namespace):
     """The policy named by --policy or --behavior; files by absolute path, so that a store's plan
     means the same from any directory."""
+    if args.policy:
+        return named_policy(args.policy, True, args.sample)
+    return named_policy(args.behavior, False, args.sample)
+
+
+def named_policy(ref: str, agent: bool, sample: bool, option: str = "--sample",
+                 needs: str = "--policy"):
+    """A trained agent's zip (``agent``) or a behavior name or file, as a policy reference."""
     from vlb_gym.core.library import is_behavior_path
     from vlb_gym.verify.policies import PolicyRef
 
-    if args.policy:
-        return PolicyRef(AGENT_KINDS[args.sample], str(Path(args.policy).resolve()))
-    if args.sample:
-        raise UsageError("--sample draws a trained agent's actions: it needs --policy")
-    ref = args.behavior
+    if agent:
+        return PolicyRef(AGENT_KINDS[sample], str(Path(ref).resolve()))
+    if sample:
+        raise UsageError(f"{option} draws a trained agent's actions: it needs {needs}")
     return PolicyRef("behavior", str(Path(ref).resolve()) if is_behavior_path(ref) else ref)
 
 
 def read_store(path: str):
-    """The campaign store at ``path``, opened read-only."""
-    from vlb_gym.verify.store import CampaignStore, StoreError
+    """The store at ``path`` (a campaign's or a comparison's), opened read-only."""
+    from vlb_gym.verify.store import StoreError, open_readonly
 
     try:
-        return CampaignStore(path, readonly=True)
+        return open_readonly(path)
     except StoreError as exc:
         raise UsageError(str(exc)) from None
 

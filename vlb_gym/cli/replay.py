@@ -40,6 +40,10 @@ def _replay_config(args: argparse.Namespace):
         raise UsageError("replay STORE --episode K takes the campaign from the store: no "
                          "--behavior, --seed, --index, --env-kwarg or --sample")
     store = read_store(args.target)
+    if store.holds != "campaign":
+        store.close()
+        raise UsageError(f"{args.target}: holds a {store.holds}: replay one side's episode with "
+                         "the command its report prints ('vlb report STORE')")
     try:
         plan = store.plan()
         stored = store.result(args.episode)

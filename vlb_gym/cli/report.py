@@ -9,10 +9,23 @@ from pathlib import Path
 from .common import UsageError, add_env_module, check_output, read_store, untrusted_options
 
 def cmd_report(args: argparse.Namespace) -> int:
+    from vlb_gym.verify import comparison
     from vlb_gym.verify.campaign import report_from_store
-    from vlb_gym.verify.store import StoreError
+    from vlb_gym.verify.store import ComparisonStore, StoreError
 
     store = read_store(args.store)
+    if isinstance(store, ComparisonStore):
+        try:
+            report = comparison.report_from_store(store)
+        except StoreError as exc:
+            raise UsageError(str(exc)) from None
+        finally:
+            store.close()
+        if args.out:
+            raise UsageError(f"--out: {args.store} holds a comparison, whose report is printed "
+                             "(in words, or with --json)")
+        print(report.to_json() if args.json else report.summary(), end="\n" * (not args.json))
+        return 0
     try:
         report = report_from_store(store)
         plan, episodes = store.plan(), store.results()
@@ -48,8 +61,10 @@ def cmd_report(args: argparse.Namespace) -> int:
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     t = sub.add_parser("report", help="rebuild a campaign's report from its --store",
                        description="Print the summary (or, with --json, the JSON report) of the "
-                       "campaign kept in a store by 'vlb verify --store', from the store alone.")
-    t.add_argument("store", metavar="STORE", help="the SQLite file given to vlb verify --store")
+                       "campaign kept in a store by 'vlb verify --store' (or the comparison "
+                       "of 'vlb compare --store'), from the store alone.")
+    t.add_argument("store", metavar="STORE",
+                   help="the SQLite file given to vlb verify (or vlb compare) --store")
     t.add_argument("--json", action="store_true", help="print the JSON report")
     t.add_argument("--out", metavar="DIR",
                    help="write report.json, report.md (with figures/) and a self-contained "

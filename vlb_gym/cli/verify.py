@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
 from pathlib import Path
@@ -24,25 +25,42 @@ def _check_verify_args(args: argparse.Namespace) -> None:
         raise UsageError("--ray-address needs --backend ray")
 
 
-def _open_store(path: Path, campaign):
-    """The store at ``path``, holding (or now recording) ``campaign``'s plan."""
+def open_store(path: Path, prepared, total: int, kind=None, command: str = "verify",
+               unit: str = "episodes"):
+    """The store at ``path`` (a :class:`~vlb_gym.verify.store.CampaignStore`, or ``kind``),
+    holding (or now recording) the plan of ``prepared`` (a campaign or a comparison), whose
+    method runs ``total`` at most."""
     from vlb_gym.verify.store import CampaignStore, StoreError
 
     try:
-        store = CampaignStore(path)
+        store = (kind or CampaignStore)(path)
     except StoreError as exc:
         raise UsageError(f"--store {exc}") from None
     try:
-        store.start(campaign.plan)
-        campaign.stored(store)
+        store.start(prepared.plan)
+        prepared.stored(store)
     except StoreError as exc:
         store.close()
         raise UsageError(f"--store {exc}") from None
     if store.done():
-        most = "at most " if campaign.method().stops_early else ""
-        print(f"vlb verify: resuming {path}: {len(store.done())} of {most}"
-              f"{campaign.config.episodes} episodes are stored", file=sys.stderr)
+        most = "at most " if prepared.method().stops_early else ""
+        print(f"vlb {command}: resuming {path}: {len(store.done())} of {most}{total} {unit} "
+              "are stored", file=sys.stderr)
     return store
+
+
+@contextlib.contextmanager
+def progress(quiet: bool, total: int, initial: int, unit: str = "ep"):
+    """A progress bar on a terminal (unless ``quiet``): yields what to call per item done, or
+    None."""
+    if quiet or not sys.stderr.isatty():
+        yield None
+        return
+    from tqdm import tqdm
+
+    with tqdm(total=total, initial=initial, unit=unit, file=sys.stderr,
+              dynamic_ncols=True) as bar:
+        yield lambda _item: bar.update()
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
@@ -80,33 +98,26 @@ def cmd_verify(args: argparse.Namespace) -> int:
         raise UsageError("--report and --episodes-out name the same file")
     store = None
     if args.store:  # an existing store is resumed: its plan must be this command's
-        store = _open_store(check_output(args.store, [*campaign.files, report_out, export], True,
-                                         "--store"), campaign)
+        store = open_store(check_output(args.store, [*campaign.files, report_out, export], True,
+                                        "--store"), campaign, episodes)
     stream = EpisodesExport(export, campaign.plan, args.force) if export else None
-    bar = None
-    if not args.quiet and sys.stderr.isatty():
-        from tqdm import tqdm
-        bar = tqdm(total=episodes, initial=len(store.done()) if store else 0, unit="ep",
-                   file=sys.stderr, dynamic_ncols=True)
-
-    def on_episode(result):
-        if stream:
-            stream.add(result)
-        if bar:
-            bar.update()
-
     report = None
     from vlb_gym.verify.store import StoreError
 
     try:
-        report = campaign.run(workers, on_episode, store, args.backend, args.ray_address)
+        with progress(args.quiet, episodes, len(store.done()) if store else 0) as bar:
+            def on_episode(result):
+                if stream:
+                    stream.add(result)
+                if bar:
+                    bar(result)
+
+            report = campaign.run(workers, on_episode, store, args.backend, args.ray_address)
     except KeyboardInterrupt:  # the workers ignore Ctrl-C; leaving the run stops them
         pass
     except StoreError as exc:  # what the stored episodes turned out to be
         raise UsageError(f"--store {exc}") from None
     finally:
-        if bar:
-            bar.close()
         if stream:
             stream.close(complete=report is not None)
         if store:

@@ -22,7 +22,7 @@ import platform
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol, TypeVar
 
 import gymnasium as gym
 import numpy as np
@@ -37,6 +37,23 @@ from .methods import FixedN, Method, method_named
 from .policies import PolicyRef, policy_loader
 from .report import Report
 from .store import CampaignStore, StoreError
+
+
+class Indexed(Protocol):
+    """A result of the run of one index (an episode, a pair of episodes)."""
+
+    @property
+    def index(self) -> int: ...
+
+
+class Decides(Protocol):
+    """What :func:`feed_until_decided` asks of a statistical method."""
+
+    name: str
+    stops_early: bool
+
+    @property
+    def decided(self) -> bool: ...
 
 
 @dataclass(frozen=True)
@@ -150,16 +167,10 @@ class Campaign:
                  ) -> Iterator[EpisodeResult]:
         """Stream the results of ``indices`` (default: all N) as they finish, in index order on
         one worker. Closing the generator stops the workers."""
-        if not isinstance(workers, int) or workers < 1:
-            raise ValueError(f"workers must be a positive integer (got {workers!r})")
         indices = range(self.config.episodes) if indices is None else indices
-        if _in_process(workers, backend):
-            setup = functools.partial(episode_runner, self.config, (self.env, self.policy))
-            return backends.run_indices(setup, indices, backend="serial")
-        return backends.run_indices(functools.partial(episode_runner, self.config), indices,
-                                    backend=backend, workers=workers, ray_address=ray_address,
-                                    preload=["vlb_gym.verify.campaign",
-                                             *self.env.unwrapped.preload])
+        return run_where(functools.partial(episode_runner, self.config),
+                         functools.partial(episode_runner, self.config, (self.env, self.policy)),
+                         indices, workers, backend, ray_address, self.env.unwrapped.preload)
 
     def method(self) -> Method:
         """A fresh instance of the campaign's statistical method."""
@@ -207,45 +218,77 @@ class Campaign:
     def stored(self, store: CampaignStore) -> list[EpisodeResult]:
         """The episodes ``store`` holds, checked against what the method needs (StoreError):
         a method that stops early saw its episodes in index order, so they are 0..k-1."""
-        stored = store.results()
-        method = method_named(self.config.method)
-        if method.stops_early and [r.index for r in stored] != list(range(len(stored))):
-            raise StoreError(f"{store.path}: the stored episodes are not the first "
-                             f"{len(stored)} of the campaign, which its {method.name} test "
-                             "needs in order: the store was edited or damaged")
-        return stored
+        return stored_prefix(store, method_named(self.config.method))
 
     def _feed(self, method: Method, todo: list[int], workers: int, backend: str,
               ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]
               ) -> list[EpisodeResult]:
-        """Run episodes ``todo`` and hand them to ``method`` (and ``consumers``) until it
-        decides: as they finish, or in index order if it may stop early."""
-        used: list[EpisodeResult] = []
-        waiting: dict[int, EpisodeResult] = {}
-        order = iter(todo)
-        following = next(order, None)
-
         def take(result: EpisodeResult) -> None:
-            used.append(result)
             method.observe(result.success)
             for consume in consumers:
                 consume(result)
 
-        stream = self.episodes(todo, workers, backend, ray_address)
-        try:
-            for result in stream:
-                if not method.stops_early:
-                    take(result)
-                    continue
-                waiting[result.index] = result
-                while not method.decided and following in waiting:
-                    take(waiting.pop(following))
-                    following = next(order, None)
-                if method.decided:
-                    break
-        finally:
-            stream.close()  # stops the workers when the method decided early
-        return used
+        return feed_until_decided(self.episodes(todo, workers, backend, ray_address), method,
+                                  todo, take)
+
+
+R = TypeVar("R", bound=Indexed)
+
+
+def run_where(setup: Callable[[], Callable[[int], R]],
+              setup_here: Callable[[], Callable[[int], R]], indices: Sequence[int],
+              workers: int, backend: str, ray_address: str | None,
+              env_preload: Sequence[str]) -> Iterator[R]:
+    """Stream ``runner(i)`` for ``indices`` from the backend: ``setup_here`` (which reuses
+    what this process built) when they run in this process, ``setup`` in each worker."""
+    if not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be a positive integer (got {workers!r})")
+    if _in_process(workers, backend):
+        return backends.run_indices(setup_here, indices, backend="serial")
+    return backends.run_indices(setup, indices, backend=backend, workers=workers,
+                                ray_address=ray_address,
+                                preload=["vlb_gym.verify.campaign", *env_preload])
+
+
+def feed_until_decided(stream: Iterator[R], method: Decides, todo: Sequence[int],
+                       take: Callable[[R], None]) -> list[R]:
+    """Hand the results of ``stream`` (of episodes ``todo``) to ``take`` until ``method`` has
+    decided: as they finish, or in index order (``todo``'s) if it may stop early; the
+    results taken. Closes the stream (stopping the workers) when the method decided early."""
+    used: list[R] = []
+    waiting: dict[int, R] = {}
+    order = iter(todo)
+    following = next(order, None)
+
+    def use(result: R) -> None:
+        used.append(result)
+        take(result)
+
+    try:
+        for result in stream:
+            if not method.stops_early:
+                use(result)
+                continue
+            waiting[result.index] = result
+            while not method.decided and following in waiting:
+                use(waiting.pop(following))
+                following = next(order, None)
+            if method.decided:
+                break
+    finally:
+        stream.close()
+    return used
+
+
+def stored_prefix(store: CampaignStore, method: Decides) -> list[Any]:
+    """The records ``store`` holds, checked against what ``method`` needs (StoreError): a
+    method that stops early saw them in index order, so they are 0..k-1."""
+    stored = store.results()
+    if method.stops_early and [r.index for r in stored] != list(range(len(stored))):
+        raise StoreError(f"{store.path}: the stored episodes are not the first "
+                         f"{len(stored)} of the campaign, which its {method.name} test "
+                         "needs in order: the store was edited or damaged")
+    return stored
 
 
 def preload(modules: Sequence[str]) -> None:

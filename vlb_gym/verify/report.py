@@ -43,6 +43,21 @@ _REPLAY_OPTIONS = {"behavior": ["--behavior"], "sb3": ["--policy"],  # what 'vlb
                    "sb3_sampled": ["--sample", "--policy"]}
 
 
+def replay_command(policy: Mapping[str, Any], env_id: str, env_kwargs: Mapping[str, Any],
+                   env_modules: Sequence[str], seed: int) -> str | None:
+    """The ``vlb replay`` command that re-runs ``policy`` from reset seed ``seed`` (None for a
+    policy kind of its own, which ``vlb replay`` cannot name)."""
+    option = _REPLAY_OPTIONS.get(policy["kind"])
+    if option is None:
+        return None
+    words = ["vlb", "replay", env_id, *option, shown_path(policy["ref"]), "--seed", str(seed)]
+    for key, value in env_kwargs.items():
+        words += ["--env-kwarg", f"{key}={json.dumps(value)}"]
+    for module in env_modules:
+        words += ["--env-module", module]
+    return shlex.join(words)
+
+
 class Report(Mapping[str, Any]):
     """A campaign's report: a read-only mapping of its JSON keys (those of ARCHITECTURE.md and
     more), with :meth:`summary` in words and :meth:`replay_command` for any episode.
@@ -116,17 +131,8 @@ class Report(Mapping[str, Any]):
         for a policy kind of its own, which ``vlb replay`` cannot name, outside a store)."""
         if self.store:
             return f"vlb replay {shlex.quote(self.store)} --episode {index}"
-        policy = self["policy"]
-        option = _REPLAY_OPTIONS.get(policy["kind"])
-        if option is None:
-            return None
-        words = ["vlb", "replay", self["env_id"], *option, shown_path(policy["ref"]), "--seed",
-                 str(seed)]
-        for key, value in self["env_kwargs"].items():
-            words += ["--env-kwarg", f"{key}={json.dumps(value)}"]
-        for module in self["env_modules"]:
-            words += ["--env-module", module]
-        return shlex.join(words)
+        return replay_command(self["policy"], self["env_id"], self["env_kwargs"],
+                              self["env_modules"], seed)
 
     def summary(self, report_path: str | None = None) -> str:
         """The outcome of the campaign in words, as ``vlb verify`` prints it."""

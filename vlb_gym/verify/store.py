@@ -10,6 +10,7 @@ that is not a vlb-gym store is refused and left untouched.
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import json
 import os
@@ -24,6 +25,7 @@ from .episode import STEP_KEYS, EpisodeResult
 from .methods import FixedN, Sequential, method_named
 
 APPLICATION_ID = 0x564C4231  # "VLB1", in the SQLite header: marks the file as a vlb-gym store
+COMPARISON_APPLICATION_ID = 0x564C4232  # "VLB2": a comparison's store
 
 
 def parting(a: Any, b: Any, width: int = 80) -> tuple[str, str]:
@@ -45,7 +47,15 @@ class StoreError(ValueError):
 
 class CampaignStore:
     """The store at ``path``, created if missing and locked for this process; ``readonly``
-    opens an existing store to read it, also while a campaign writes it."""
+    opens an existing store to read it, also while a campaign writes it.
+
+    A kind of store is its :attr:`application_id` (in the SQLite header: a store of one kind
+    is never read as another), its :meth:`_validate_plan`, and its record's :meth:`_encode`
+    and :meth:`_decode`."""
+
+    application_id = APPLICATION_ID
+    what = "campaign store"
+    holds = "campaign"
 
     def __init__(self, path: str | Path, readonly: bool = False):
         self.path = Path(path)
@@ -69,7 +79,7 @@ class CampaignStore:
         # checkpoints (which fsync) every 32 MiB of log rather than SQLite's 4 MiB
         self.db.execute("PRAGMA wal_autocheckpoint=8192")
         if fresh:
-            self.db.execute(f"PRAGMA application_id={APPLICATION_ID}")
+            self.db.execute(f"PRAGMA application_id={self.application_id}")
             self.db.execute("CREATE TABLE IF NOT EXISTS plan "
                             "(id INTEGER PRIMARY KEY CHECK (id = 1), plan TEXT NOT NULL)")
             self.db.execute("CREATE TABLE IF NOT EXISTS episodes (idx INTEGER PRIMARY KEY, "
@@ -83,11 +93,13 @@ class CampaignStore:
                 columns = {table: [row[1] for row in probe.execute(
                     f"PRAGMA table_info({table})")] for table in ("plan", "episodes")}
                 (check,) = probe.execute("PRAGMA quick_check(1)").fetchone() \
-                    if app == APPLICATION_ID else ("ok",)
+                    if app == self.application_id else ("ok",)
         except sqlite3.DatabaseError as exc:
-            raise StoreError(f"{self.path}: not a vlb-gym campaign store ({exc})") from None
-        if app != APPLICATION_ID or columns != _COLUMNS:
-            raise StoreError(f"{self.path}: not a vlb-gym campaign store")
+            raise StoreError(f"{self.path}: not a vlb-gym {self.what} ({exc})") from None
+        if app != self.application_id or columns != _COLUMNS:
+            other = next((kind.what for kind in _KINDS if kind.application_id == app), None)
+            raise StoreError(f"{self.path}: not a vlb-gym {self.what}"
+                             + (f" (it is a {other})" if other and columns == _COLUMNS else ""))
         if check != "ok":
             raise StoreError(f"{self.path}: the campaign store is damaged ({check})")
 
@@ -119,10 +131,14 @@ class CampaignStore:
         if not rows:
             return None
         try:
-            return StoredPlan.model_validate_json(rows[0][0]).model_dump()
+            return self._validate_plan(rows[0][0])
         except ValidationError as exc:
             raise StoreError(f"{self.path}: the stored plan is not valid "
                              f"({_first_error(exc)})") from None
+
+    @staticmethod
+    def _validate_plan(text: str) -> dict[str, Any]:
+        return StoredPlan.model_validate_json(text).model_dump()
 
     def start(self, plan: dict[str, Any]) -> None:
         """Record ``plan``, or check that the store holds the same one (naming what differs)."""
@@ -138,7 +154,7 @@ class CampaignStore:
             details = "; ".join("{}: stored {}, now {}".format(k, *parting(stored.get(k),
                                                                           plan.get(k)))
                                 for k in differ)
-            raise StoreError(f"{self.path} holds another campaign ({details})")
+            raise StoreError(f"{self.path} holds another {self.holds} ({details})")
 
     def done(self) -> set[int]:
         """Indices of the episodes stored."""
@@ -147,7 +163,7 @@ class CampaignStore:
     def add(self, result: EpisodeResult) -> None:
         """Store one finished episode (its own transaction: durable once this returns)."""
         self.db.execute("INSERT INTO episodes (idx, record) VALUES (?, ?)",
-                        (result.index, _encode(result)))
+                        (result.index, self._encode(result)))
 
     def results(self) -> list[EpisodeResult]:
         """The stored episodes, in index order."""
@@ -164,8 +180,12 @@ class CampaignStore:
     def _decode(self, index: Any, text: Any) -> EpisodeResult:
         """A stored record, checked (StoreError naming the episode if it is not one vlb-gym
         writes)."""
+        return _decode_episode(self._checked(StoredEpisode, index, text))
+
+    def _checked(self, model: type[BaseModel], index: Any, text: Any) -> dict[str, Any]:
+        """Record ``index`` validated by ``model`` (StoreError naming it otherwise)."""
         try:
-            record = StoredEpisode.model_validate_json(text).model_dump()
+            record = model.model_validate_json(text).model_dump()
         except (ValidationError, TypeError) as exc:
             message = _first_error(exc) if isinstance(exc, ValidationError) else exc
             raise StoreError(f"{self.path}: stored episode {index} is not valid "
@@ -173,16 +193,25 @@ class CampaignStore:
         if record["index"] != index:
             raise StoreError(f"{self.path}: stored episode {index} says it is episode "
                              f"{record['index']}")
-        record["steps"] = [dict(zip(STEP_KEYS, step)) for step in record["steps"]]
-        return EpisodeResult.from_dict(record)
+        return record
+
+    @staticmethod
+    def _encode(result: EpisodeResult) -> str:
+        return json.dumps(_episode_record(result), separators=(",", ":"))
 
 
-def _encode(result: EpisodeResult) -> str:
-    """An episode's record as stored: compact JSON, each step a list of its :data:`STEP_KEYS`
-    values (half the size of the dicts)."""
+def _decode_episode(record: dict[str, Any]) -> EpisodeResult:
+    """The result a validated stored record holds (its steps as dicts again)."""
+    record["steps"] = [dict(zip(STEP_KEYS, step)) for step in record["steps"]]
+    return EpisodeResult.from_dict(record)
+
+
+def _episode_record(result: EpisodeResult) -> dict[str, Any]:
+    """An episode's record as stored: each step a list of its :data:`STEP_KEYS` values (half
+    the size of the dicts)."""
     record = result.to_dict()
     record["steps"] = [[step[key] for key in STEP_KEYS] for step in result.steps]
-    return json.dumps(record, separators=(",", ":"))
+    return record
 
 
 _COLUMNS = {"plan": ["id", "plan"], "episodes": ["idx", "record"]}
@@ -198,25 +227,30 @@ class StoredPolicy(BaseModel):
     library: str | None
 
 
-class StoredPlan(BaseModel):
-    """The plan as a store holds it (what :class:`~.campaign.Campaign` makes). Stores written
-    before plans named their statistical method say ``"sequential": true/false`` instead."""
+class StoredSubject(BaseModel):
+    """What a plan records of the policy under test and its env (a comparison has two)."""
 
     model_config = _STRICT
     env_id: str
     policy: StoredPolicy
-    episodes: Annotated[int, Field(ge=1)]
-    epsilon: Probability
-    delta: Probability
-    seed: Count
     env_kwargs: dict[str, Any]
     stop_on_failure: bool
     env_modules: list[str]
-    method: str
     content_sha256: str
     policy_content: dict[str, Any]
     sampling_distribution: str
     versions: dict[str, str]
+
+
+class StoredPlan(StoredSubject):
+    """The plan as a store holds it (what :class:`~.campaign.Campaign` makes). Stores written
+    before plans named their statistical method say ``"sequential": true/false`` instead."""
+
+    episodes: Annotated[int, Field(ge=1)]
+    epsilon: Probability
+    delta: Probability
+    seed: Count
+    method: str
 
     @model_validator(mode="before")
     @classmethod
@@ -257,3 +291,79 @@ def _first_error(exc: ValidationError) -> str:
     error = exc.errors()[0]
     where = ".".join(str(part) for part in error["loc"]) or "the record"
     return f"{where}: {error['msg']}"
+
+
+class StoredComparisonPlan(BaseModel):
+    """A comparison's plan as its store holds it (what :class:`~.comparison.Comparison`
+    makes)."""
+
+    model_config = _STRICT
+    env_id: str
+    a: StoredSubject
+    b: StoredSubject
+    pairs: Annotated[int, Field(ge=1)]
+    margin: Annotated[float, Field(ge=0, lt=1)]
+    alpha: Probability
+    seed: Count
+    method: str
+
+    @field_validator("method")
+    @classmethod
+    def _known_method(cls, name: str) -> str:
+        from .paired import paired_method_named
+
+        paired_method_named(name)
+        return name
+
+
+class StoredPair(BaseModel):
+    """A pair's record: episode ``index`` of A and of B."""
+
+    model_config = _STRICT
+    index: Count
+    a: StoredEpisode
+    b: StoredEpisode
+
+
+class ComparisonStore(CampaignStore):
+    """The store of a comparison (``vlb compare --store``): its plan, then one record per pair
+    (:class:`~.comparison.PairResult`), as a campaign store keeps episodes."""
+
+    application_id = COMPARISON_APPLICATION_ID
+    what = "comparison store"
+    holds = "comparison"
+
+    @staticmethod
+    def _validate_plan(text: str) -> dict[str, Any]:
+        return StoredComparisonPlan.model_validate_json(text).model_dump()
+
+    def _decode(self, index: Any, text: Any) -> Any:
+        from .comparison import PairResult
+
+        record = self._checked(StoredPair, index, text)
+        for side in ("a", "b"):
+            if record[side]["index"] != index:
+                raise StoreError(f"{self.path}: stored pair {index} holds episode "
+                                 f"{record[side]['index']} of {side.upper()}")
+        return PairResult(index, _decode_episode(record["a"]), _decode_episode(record["b"]))
+
+    @staticmethod
+    def _encode(result: Any) -> str:
+        return json.dumps({"index": result.index, "a": _episode_record(result.a),
+                           "b": _episode_record(result.b)}, separators=(",", ":"))
+
+
+_KINDS = (CampaignStore, ComparisonStore)
+
+
+def open_readonly(path: str | Path) -> CampaignStore:
+    """The store at ``path``, opened read-only as the kind its header names (a campaign's
+    or a comparison's; anything else is refused as not a campaign store)."""
+    kind: type[CampaignStore] = CampaignStore
+    with contextlib.suppress(sqlite3.DatabaseError, OSError):
+        if Path(path).is_file():
+            with contextlib.closing(sqlite3.connect(f"file:{Path(path).absolute()}?mode=ro",
+                                                    uri=True)) as probe:
+                (app,) = probe.execute("PRAGMA application_id").fetchone()
+            kind = next((k for k in _KINDS if k.application_id == app), CampaignStore)
+    return kind(path, readonly=True)

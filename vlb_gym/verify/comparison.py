@@ -1,0 +1,305 @@
+"""Paired comparisons of two behaviors or agents: the same reset seeds, one test of ``d = P_B -
+P_A`` (:mod:`.paired`).
+
+A :class:`ComparisonConfig` names A and B (policy references, each with its own env kwargs
+added to the shared ones), the margin, the level and the method. :class:`Comparison` prepares
+the two sides as campaigns (each env made and checked, each policy loaded, an agent on the env
+it was trained on) and makes the plan; pair ``i`` runs episode ``i`` of A and episode ``i`` of B,
+both reset with the campaign seed's ``i``-th child (:func:`~.campaign.episode_seed`), on the
+backends, store and resume machinery of campaigns (:mod:`.campaign`). The report
+(:class:`ComparisonReport`) is built from the plan and the pairs alone.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import json
+import platform
+import time
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from .campaign import (Campaign, CampaignConfig, episode_runner, feed_until_decided, preload,
+                       run_where, stored_prefix, _in_process)
+from .episode import EpisodeResult
+from .paired import (DEFAULT_MAX_PAIRS, FixedPairs, PairedMethod, claim_words,
+                     paired_method_named)
+from .policies import PolicyRef
+from .report import failures_by_cause, replay_command, shown_path
+from .store import ComparisonStore
+
+_STATISTICS = ("episodes", "epsilon", "delta", "seed", "method")  # a side's plan has none
+
+
+@dataclass(frozen=True)
+class PairResult:
+    """Pair ``index``: episode ``index`` of A and of B (the same reset seed)."""
+
+    index: int
+    a: EpisodeResult
+    b: EpisodeResult
+
+
+@dataclass(frozen=True)
+class ComparisonConfig:
+    """Everything that defines a comparison. ``a`` and ``b`` are policy references (a string
+    names a behavior); ``env_kwargs`` apply to both, ``a_env_kwargs``/``b_env_kwargs`` to one
+    (and win). ``method`` is ``"fixed-N"`` (all ``pairs`` run) or ``"sequential"`` (until the
+    anytime-valid test decides, ``pairs`` at most, by default :data:`DEFAULT_MAX_PAIRS`).
+    ``margin`` 0 tests "B is more reliable than A"; above 0, "B is at least as reliable as A
+    up to the margin"."""
+
+    env_id: str
+    a: PolicyRef | str
+    b: PolicyRef | str
+    pairs: int | None = None
+    margin: float = 0.0
+    alpha: float = 0.05
+    seed: int = 0
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    a_env_kwargs: dict[str, Any] = field(default_factory=dict)
+    b_env_kwargs: dict[str, Any] = field(default_factory=dict)
+    stop_on_failure: bool = True
+    env_modules: tuple[str, ...] = ()
+    method: str = FixedPairs.name
+
+    def __post_init__(self) -> None:
+        for side in ("a", "b"):
+            if isinstance(getattr(self, side), str):
+                object.__setattr__(self, side, PolicyRef("behavior", getattr(self, side)))
+        object.__setattr__(self, "env_modules", tuple(self.env_modules))
+        method = paired_method_named(self.method)
+        if self.pairs is None:
+            if not method.stops_early:
+                raise ValueError("a fixed-N comparison needs its number of pairs")
+            object.__setattr__(self, "pairs", DEFAULT_MAX_PAIRS)
+        method(self.margin, self.alpha, self.pairs)  # checks margin, alpha and pairs
+        if not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"seed must be a non-negative integer (got {self.seed!r})")
+
+    def side(self, name: str) -> CampaignConfig:
+        """Side ``"a"`` or ``"b"`` as a fixed-N campaign of ``pairs`` episodes, same seed."""
+        own = self.a_env_kwargs if name == "a" else self.b_env_kwargs
+        return CampaignConfig(self.env_id, getattr(self, name), self.pairs, seed=self.seed,
+                              env_kwargs={**self.env_kwargs, **own},
+                              stop_on_failure=self.stop_on_failure,
+                              env_modules=self.env_modules)
+
+
+def pair_runner(a: CampaignConfig, b: CampaignConfig, built: tuple[Any, Any] | None = None
+                ) -> Callable[[int], PairResult]:
+    """What runs pair ``index``: episode ``index`` of each side (each worker calls it once)."""
+    run_a = episode_runner(a, built[0] if built else None)
+    run_b = episode_runner(b, built[1] if built else None)
+    return lambda index: PairResult(index, run_a(index), run_b(index))
+
+
+class Comparison:
+    """A comparison prepared once: both sides' campaigns (a bad file or agent fails here, before
+    any pair) and the :attr:`plan`. Close it when done (or use it as a context manager)."""
+
+    def __init__(self, config: ComparisonConfig):
+        self.config = config
+        self.sides: tuple[Campaign, Campaign] = (Campaign(config.side("a")),)  # type: ignore
+        try:
+            self.sides = (self.sides[0], Campaign(config.side("b")))
+        except BaseException:
+            self.sides[0].close()
+            raise
+        self.files = [path for side in self.sides for path in side.files]
+        self.plan: dict[str, Any] = {
+            "env_id": config.env_id, "pairs": config.pairs, "margin": config.margin,
+            "alpha": config.alpha, "seed": config.seed, "method": config.method,
+            **{name: {k: v for k, v in side.plan.items() if k not in _STATISTICS}
+               for name, side in zip("ab", self.sides)}}
+
+    def __enter__(self) -> Comparison:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        for side in self.sides:
+            side.close()
+
+    def differences(self) -> list[str]:
+        """What differs between the sides' envs (kwargs, sampling distribution): their pairs
+        share reset seeds, not the env."""
+        a, b = (side.plan for side in self.sides)
+        return [f"{key}: A {a[key]!r}, B {b[key]!r}" for key in ("env_kwargs",
+                                                                 "sampling_distribution")
+                if a[key] != b[key]]
+
+    def method(self) -> PairedMethod:
+        config = self.config
+        return paired_method_named(config.method)(config.margin, config.alpha, config.pairs)
+
+    def pairs(self, indices: Sequence[int] | None = None, workers: int = 1,
+              backend: str = "process", ray_address: str | None = None
+              ) -> Iterator[PairResult]:
+        """Stream the pairs ``indices`` (default: all) as they finish."""
+        a, b = self.sides
+        indices = range(self.config.pairs) if indices is None else indices
+        built = ((a.env, a.policy), (b.env, b.policy))
+        return run_where(functools.partial(pair_runner, a.config, b.config),
+                         functools.partial(pair_runner, a.config, b.config, built), indices,
+                         workers, backend, ray_address,
+                         [*a.env.unwrapped.preload, *b.env.unwrapped.preload])
+
+    def stored(self, store: ComparisonStore) -> list[PairResult]:
+        """The pairs ``store`` holds, checked against what the method needs (StoreError)."""
+        return stored_prefix(store, paired_method_named(self.config.method))
+
+    def run(self, workers: int = 1, on_pair: Callable[[PairResult], None] | None = None,
+            store: ComparisonStore | None = None, backend: str = "process",
+            ray_address: str | None = None) -> ComparisonReport:
+        """Run the comparison until its method decided (see :meth:`.Campaign.run`: the same
+        order, store and resume rules, with pairs for episodes) and return its report."""
+        if _in_process(workers, backend):
+            for side in self.sides:
+                preload(side.env.unwrapped.preload)
+        started = time.perf_counter()
+        method = self.method()
+        results: list[PairResult] = []
+        if store is not None:
+            store.start(self.plan)
+            stored = self.stored(store)
+            results = stored[:method.feed((r.a.success, r.b.success) for r in stored)]
+        resumed = len(results)
+        consumers = [f for f in (store.add if store is not None else None, on_pair) if f]
+
+        def take(pair: PairResult) -> None:
+            method.observe(pair.a.success, pair.b.success)
+            for consume in consumers:
+                consume(pair)
+
+        if not method.decided:
+            done = {r.index for r in results}
+            todo = [i for i in range(self.config.pairs) if i not in done]
+            results += feed_until_decided(self.pairs(todo, workers, backend, ray_address),
+                                          method, todo, take)
+        return ComparisonReport.build(self.plan, results, time.perf_counter() - started,
+                                      workers, backend,
+                                      None if store is None else str(store.path),
+                                      len(results) - resumed)
+
+
+def _side_summary(plan: Mapping[str, Any], episodes: list[EpisodeResult]) -> dict[str, Any]:
+    successes = sum(r.success for r in episodes)
+    return {"policy": plan["policy"], "env_kwargs": plan["env_kwargs"],
+            "env_modules": plan["env_modules"], "content_sha256": plan["content_sha256"], "successes": successes,
+            "failures": len(episodes) - successes,
+            "mean_primitives": (sum(r.primitives for r in episodes) / len(episodes))
+            if episodes else 0.0,
+            "failures_by_cause": failures_by_cause(episodes)}
+
+
+class ComparisonReport(Mapping[str, Any]):
+    """A comparison's report: a read-only mapping of its JSON keys, :meth:`summary` in words."""
+
+    def __init__(self, data: dict[str, Any], store: str | None = None):
+        self._data = data
+        self.store = store
+
+    def __getitem__(self, key: str) -> Any:
+        return self._data[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._data)
+
+    def __len__(self) -> int:
+        return len(self._data)
+
+    def to_json(self) -> str:
+        return json.dumps(self._data, indent=2) + "\n"
+
+    @classmethod
+    def build(cls, plan: dict[str, Any], results: Sequence[PairResult], seconds: float,
+              workers: int | None, backend: str | None = "process", store: str | None = None,
+              ran: int | None = None) -> ComparisonReport:
+        """The report of the comparison of ``plan`` from its ``results`` (those its method
+        used, in index order)."""
+        method = paired_method_named(plan["method"])(plan["margin"], plan["alpha"],
+                                                     plan["pairs"])
+        results = sorted(results, key=lambda r: r.index)
+        results = results[:method.feed((r.a.success, r.b.success) for r in results)]
+        counts = method.counts
+        n = counts.n
+        data = {
+            "env_id": plan["env_id"], "mode": method.name, "pairs": n,
+            "planned_pairs": plan["pairs"], "seed": plan["seed"], "margin": plan["margin"],
+            "alpha": plan["alpha"], "claim": claim_words(plan["margin"]),
+            "a": _side_summary(plan["a"], [r.a for r in results]),
+            "b": _side_summary(plan["b"], [r.b for r in results]),
+            "counts": dataclasses.asdict(counts),
+            "difference": (counts.b_only - counts.a_only) / n if n else 0.0,
+            **method.claim(),
+            "discordant_pairs": [{"index": r.index, "seed": r.a.seed,
+                                  "succeeded": "a" if r.a.success else "b"}
+                                 for r in results if r.a.success != r.b.success],
+            "sampling_distribution": plan["a"]["sampling_distribution"],
+            "wall_seconds": seconds,
+            "pairs_per_second": (n if ran is None else ran) / seconds if seconds > 0 else None,
+            "workers": workers, "backend": backend,
+            "machine": f"{platform.machine()} {platform.system()}, Python "
+                       f"{platform.python_version()}" if workers is not None else None,
+        }
+        return cls(data, store)
+
+    def replay_command(self, side: str, seed: int) -> str | None:
+        """The command that re-runs side ``side``'s episode with reset seed ``seed``."""
+        plan = self[side]
+        return replay_command(plan["policy"], self["env_id"], plan["env_kwargs"],
+                              plan["env_modules"], seed)
+
+    def summary(self, report_path: str | None = None) -> str:
+        """The outcome in words, as ``vlb compare`` prints it."""
+        counts, n = self["counts"], self["pairs"]
+        early = paired_method_named(self["mode"]).stops_early
+        most = f"at most {self['planned_pairs']}; " if early else ""
+        how = (f"{self['workers']} worker(s), {self['wall_seconds']:.1f} s"
+               if self["workers"] is not None else
+               f"from the store: the episodes' own time {self['wall_seconds']:.1f} s")
+        a, b = self["a"], self["b"]
+        lines = [f"{self['env_id']}: A = {shown_path(a['policy']['ref'])}, B = "
+                 f"{shown_path(b['policy']['ref'])}: {self['mode']}, {n} pairs ({most}seed "
+                 f"{self['seed']}, {how})"]
+        if not self["complete"]:
+            lines.append(f"  INCOMPLETE: {n} of {'at most ' if early else ''}"
+                         f"{self['planned_pairs']} pairs stored (resume with the same vlb "
+                         "compare command and --store)")
+        lines += [f"  A succeeded {a['successes']}/{n}, B {b['successes']}/{n}; pairs: both "
+                  f"{counts['both']}, only A {counts['a_only']}, only B {counts['b_only']}, "
+                  f"neither {counts['neither']}"]
+        lines += paired_method_named(self["mode"]).lines(self)
+        lines.append(f"  holds for: {self['sampling_distribution']}")
+        differ = self["discordant_pairs"]
+        for item in differ[:5]:
+            failed = "b" if item["succeeded"] == "a" else "a"
+            command = self.replay_command(failed, item["seed"])
+            lines.append(f"  pair {item['index']} (seed {item['seed']}): only "
+                         f"{item['succeeded'].upper()} succeeded"
+                         + (f"; replay {failed.upper()}'s failure: {command}" if command else ""))
+        if len(differ) > 5:
+            lines.append(f"  ... {len(differ) - 5} more discordant pairs in the report")
+        if report_path:
+            lines.append(f"  report: {report_path}")
+        return "\n".join(lines)
+
+
+def report_from_store(store: ComparisonStore) -> ComparisonReport:
+    """The report of the comparison in ``store``, rebuilt from the store alone."""
+    from .store import StoreError
+
+    plan = store.plan()
+    if plan is None:
+        raise StoreError(f"{store.path}: the store holds no comparison yet")
+    results = store.results()
+    if not results:
+        raise StoreError(f"{store.path}: no pair is stored yet")
+    return ComparisonReport.build(plan, results, sum(r.a.seconds + r.b.seconds
+                                                     for r in results), None, None,
+                                  str(store.path))

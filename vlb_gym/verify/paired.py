@@ -1,0 +1,457 @@
+"""Paired comparisons: is behavior (or agent) B at least as reliable as A?
+
+A and B run on the same reset seeds, so episode ``i`` of one pairs with episode ``i`` of the
+other. Each pair is one of four kinds (:class:`PairCounts`): both succeeded, only A, only B,
+neither. With ``p_A``, ``p_B`` the success probabilities and ``d = p_B - p_A``, every test here
+is of the null ``d <= -margin`` against ``d > -margin``:
+
+* ``margin = 0``: **superiority**, "B is more reliable than A";
+* ``margin > 0``: **non-inferiority**, "B is at least as reliable as A, up to ``margin``".
+
+Only the discordant pairs (one succeeded, the other failed) carry evidence about ``d`` beyond
+the margin; concordant pairs count for non-inferiority (``d = 0`` is inside the claim).
+
+Fixed N (:class:`FixedPairs`), all pairs run:
+
+* superiority: **McNemar's exact test**, one-sided: given ``m`` discordant pairs, the number
+  where only B succeeded is Binomial(m, 1/2) when ``d = 0`` and smaller when ``d < 0``, so
+  ``p = P[Binomial(m, 1/2) >= b_only]``;
+* non-inferiority: McNemar's conditioning does not carry a margin on ``d``; the **exact
+  unconditional test** of ``T = b_only - a_only`` does: its p-value is the largest
+  ``P[T >= t]`` over the null's boundary ``d = -margin`` (where it is largest: moving mass to
+  "only B" or away from "only A" raises ``T``), computed exactly from the trinomial for each
+  value of the nuisance (the discordance ``P[only A] + P[only B]``) on a grid of
+  :data:`NUISANCE_GRID` values, then refined by a bounded scalar search around the best;
+* the interval on ``d``: each bound inverts that unconditional test at level ``1 - alpha``
+  (one-sided; together a ``1 - 2 alpha`` interval).
+
+Sequential (:class:`SequentialPairs`), stopping whenever the evidence suffices:
+**testing by betting** (Waudby-Smith and Ramdas, "Estimating means of bounded random variables
+by betting", JRSS-B 2024; Shafer, "Testing by betting", JRSS-A 2021). With ``X = B_i - A_i`` in
+``{-1, 0, 1}`` (mean ``d``) and a null value ``d0``, the wealth of a bettor who stakes a fixed
+fraction ``c`` of the most it can safely stake,
+``K_n(c) = prod_i (1 + c (X_i - d0) / (1 + d0))``, is a nonnegative supermartingale under
+``d <= d0`` (each factor has mean ``1 + c (d - d0) / (1 + d0) <= 1``), and so is the average
+over the fractions :data:`BETS`. Ville's inequality: ``P[sup_n K_n >= 1/alpha] <= alpha``,
+however often one looks. B is shown better than ``-margin`` when the wealth against
+``d <= -margin`` reaches ``1/alpha``; shown worse (the claim refuted) when the mirror bet
+against ``d >= -margin`` does; each is wrong with probability at most ``alpha``. The bets are
+fixed in advance, so the wealth depends only on the counts. The anytime-valid interval on ``d``
+inverts the two wealths (each bound at ``1 - alpha``, for all n at once).
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from . import bounds
+
+BETS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.9)
+"""The fractions of the safe stake that the sequential test's bettors stake (its mixture)."""
+
+NUISANCE_GRID = 200
+"""Nuisance values the unconditional test's p-value is maximised over before refining."""
+
+BERGER_BOOS_GAMMA = 0.001
+"""The part of the unconditional test's level spent on the nuisance's confidence interval."""
+
+SEQUENTIAL_TEST = "testing by betting (fixed-fraction mixture, Ville's inequality)"
+DEFAULT_MAX_PAIRS = 5000
+
+
+@dataclass(frozen=True)
+class PairCounts:
+    """How many pairs of each kind: ``both`` succeeded, ``a_only``, ``b_only``, ``neither``."""
+
+    both: int = 0
+    a_only: int = 0
+    b_only: int = 0
+    neither: int = 0
+
+    @property
+    def n(self) -> int:
+        return self.both + self.a_only + self.b_only + self.neither
+
+    @property
+    def discordant(self) -> int:
+        return self.a_only + self.b_only
+
+    @property
+    def a_successes(self) -> int:
+        return self.both + self.a_only
+
+    @property
+    def b_successes(self) -> int:
+        return self.both + self.b_only
+
+    def add(self, a_success: bool, b_success: bool) -> PairCounts:
+        key = ("neither", "b_only", "a_only", "both")[2 * bool(a_success) + bool(b_success)]
+        return PairCounts(**{**self.__dict__, key: getattr(self, key) + 1})
+
+
+def _check_margin(margin: float) -> None:
+    if not isinstance(margin, (int, float)) or isinstance(margin, bool) \
+            or not 0 <= margin < 1:
+        raise ValueError(f"margin must lie in [0, 1) (got {margin!r})")
+
+
+def claim_words(margin: float) -> str:
+    """The alternative hypothesis in words."""
+    if margin == 0:
+        return "B is more reliable than A (P_B > P_A)"
+    return f"B is at least as reliable as A up to {margin:g} (P_B > P_A - {margin:g})"
+
+
+# ------------------------------------------------------------------------------- fixed N
+
+
+def mcnemar_p(counts: PairCounts) -> float:
+    """McNemar's exact one-sided p-value for ``P_B > P_A``: ``P[Bin(m, 1/2) >= b_only]``."""
+    from scipy.stats import binom
+
+    if counts.discordant == 0:
+        return 1.0
+    return float(binom.sf(counts.b_only - 1, counts.discordant, 0.5))
+
+
+def _tails(n: int, t: int, d0: float, s: np.ndarray) -> np.ndarray:
+    """``P[b_only - a_only >= t]`` for ``n`` pairs at each discordance ``s`` on the boundary
+    ``d = d0`` (``P[only B] = (s + d0) / 2``, ``P[only A] = (s - d0) / 2``), exactly: the
+    discordant count ``M`` is Binomial(n, s) and, given ``M = m``, ``b_only`` is
+    Binomial(m, (s + d0) / (2 s))."""
+    from scipy.stats import binom
+
+    m = np.arange(n + 1)[:, None]
+    need = np.ceil((m + t) / 2.0)  # b_only >= (m + t) / 2
+    q = np.clip((s + d0) / (2 * s), 0.0, 1.0)[None, :]
+    return np.clip((binom.pmf(m, n, s[None, :]) * binom.sf(need - 1, m, q)).sum(axis=0), 0, 1)
+
+
+def unconditional_p(counts: PairCounts, d0: float) -> float:
+    """The exact unconditional p-value of the null ``d <= d0`` (``-1 < d0 < 1``) given the
+    counts, Berger and Boos' way: ``gamma`` (:data:`BERGER_BOOS_GAMMA`) plus the largest
+    ``P[T >= t]`` on the boundary ``d = d0`` over the discordances ``s`` in a ``1 - gamma``
+    Clopper-Pearson interval from the observed discordant count (see the module's
+    docstring); valid at every level (R. L. Berger and D. D. Boos, "P values maximised over a
+    confidence set for the nuisance parameter", JASA 89, 1994)."""
+    from scipy.optimize import minimize_scalar
+    from scipy.stats import beta
+
+    n, t, m = counts.n, counts.b_only - counts.a_only, counts.discordant
+    if n == 0:
+        return 1.0
+    half = BERGER_BOOS_GAMMA / 2
+    low = beta.ppf(half, m, n - m + 1) if m > 0 else 0.0
+    high = beta.ppf(1 - half, m + 1, n - m) if m < n else 1.0
+    low, high = max(low, abs(d0), 1e-12), min(high, 1.0)  # p_b, p_a in [0, 1] at d = d0
+    if low > high:  # no point of the boundary is in the interval
+        return min(1.0, BERGER_BOOS_GAMMA)
+    grid = np.linspace(low, high, NUISANCE_GRID)
+    values = _tails(n, t, d0, grid)
+    best = int(values.argmax())
+    step = (high - low) / (NUISANCE_GRID - 1)
+    found = minimize_scalar(lambda s: -float(_tails(n, t, d0, np.array([s]))[0]),
+                            method="bounded", options={"xatol": 1e-9},
+                            bounds=(max(low, grid[best] - step), min(high, grid[best] + step)))
+    return float(min(1.0, max(values[best], -found.fun) + BERGER_BOOS_GAMMA))
+
+
+def unconditional_bounds(counts: PairCounts, alpha: float) -> tuple[float, float]:
+    """The interval on ``d``: each end inverts the exact unconditional test at level
+    ``1 - alpha`` (the least ``d0`` whose null ``d <= d0`` is not rejected, and its mirror)."""
+    mirror = PairCounts(counts.both, counts.b_only, counts.a_only, counts.neither)
+    return _lowest_kept(counts, alpha), -_lowest_kept(mirror, alpha)
+
+
+def _lowest_kept(counts: PairCounts, alpha: float) -> float:
+    """``inf {d0 : unconditional_p(counts, d0) > alpha}`` (the p-value grows with ``d0``), by
+    bisection to 1e-4, rounded down."""
+    low, high = -1.0, 1.0
+    while high - low > 1e-4:
+        middle = (low + high) / 2
+        if unconditional_p(counts, middle) > alpha:
+            high = middle
+        else:
+            low = middle
+    return max(-1.0, low)
+
+
+# ------------------------------------------------------------------------------- sequential
+
+
+def log_wealth(counts: PairCounts, d0: float, against: str = "below") -> float:
+    """The log of the mixture wealth against the null ``d <= d0`` (``against="below"``:
+    evidence that ``d > d0``) or ``d >= d0`` (``"above"``: evidence that ``d < d0``)."""
+    x = np.array([1.0, 0.0, -1.0]) - d0  # only B, concordant, only A
+    n = np.array([counts.b_only, counts.both + counts.neither, counts.a_only], dtype=float)
+    c = np.array(BETS)[:, None]
+    if against == "below":
+        factors = 1.0 + c * x / (1.0 + d0)
+    elif against == "above":
+        factors = 1.0 - c * x / (1.0 - d0)
+    else:
+        raise ValueError(f"against must be 'below' or 'above' (got {against!r})")
+    logs = (np.where(n > 0, n * np.log(factors), 0.0)).sum(axis=1)
+    top = logs.max()
+    return float(top + math.log(np.exp(logs - top).mean()))
+
+
+def anytime_bounds(counts: PairCounts, alpha: float) -> tuple[float, float]:
+    """The anytime-valid interval on ``d`` after ``counts``: each end at level ``1 - alpha``,
+    for every n at once (the wealths inverted by bisection, rounded outwards)."""
+    threshold = -math.log(alpha)
+
+    def lowest(side: str, sign: float) -> float:
+        # the wealth against d <= d0 falls as d0 grows: the least d0 it does not reject
+        low, high = -1.0, 1.0
+        while high - low > 1e-6:
+            middle = (low + high) / 2
+            if log_wealth(counts, sign * middle, side) < threshold:
+                high = middle
+            else:
+                low = middle
+        return low
+
+    return max(-1.0, lowest("below", 1.0)), min(1.0, -lowest("above", -1.0))
+
+
+# ------------------------------------------------------------------------------- methods
+
+
+class PairedMethod(abc.ABC):
+    """A statistical method for a comparison of at most ``pairs`` pairs, testing ``d <=
+    -margin`` at level ``alpha``: it sees the pairs' outcomes (in index order when it may stop
+    early), says when it has decided, and gives the report's claim."""
+
+    name: ClassVar[str]
+    stops_early: ClassVar[bool]
+
+    def __init__(self, margin: float, alpha: float, pairs: int):
+        _check_margin(margin)
+        bounds._check_probability("alpha", alpha)
+        if not isinstance(pairs, int) or isinstance(pairs, bool) or pairs < 1:
+            raise ValueError(f"pairs must be a positive integer (got {pairs!r})")
+        self.margin, self.alpha, self.pairs = margin, alpha, pairs
+        self.counts = PairCounts()
+
+    def observe(self, a_success: bool, b_success: bool) -> None:
+        if self.decided:
+            raise RuntimeError(f"{self.name}: the method has decided already")
+        self.counts = self.counts.add(a_success, b_success)
+
+    def feed(self, outcomes: Iterable[tuple[bool, bool]]) -> int:
+        """Observe ``outcomes`` (in index order) until the method decides; how many it used."""
+        used = 0
+        for a, b in outcomes:
+            if self.decided:
+                break
+            self.observe(a, b)
+            used += 1
+        return used
+
+    @property
+    @abc.abstractmethod
+    def decided(self) -> bool:
+        """Whether the comparison may stop now."""
+
+    def caveats(self) -> list[str]:
+        """What to tell the user before the comparison runs."""
+        return []
+
+    @abc.abstractmethod
+    def claim(self) -> dict[str, Any]:
+        """The report's keys: at least ``complete``, ``decision`` (``"shown"``, ``"refuted"``,
+        ``"not shown"`` or ``"undecided"``), ``interval`` and ``statement``."""
+
+    @staticmethod
+    @abc.abstractmethod
+    def lines(report: Mapping[str, Any]) -> list[str]:
+        """The claim of ``report`` in words."""
+
+
+class FixedPairs(PairedMethod):
+    """``pairs`` fixed in advance, all run; McNemar's exact test (margin 0) or the exact
+    unconditional test (margin > 0)."""
+
+    name = "fixed-N"
+    stops_early = False
+
+    @property
+    def decided(self) -> bool:
+        return self.counts.n >= self.pairs
+
+    def claim(self) -> dict[str, Any]:
+        counts, margin, alpha = self.counts, self.margin, self.alpha
+        complete = counts.n == self.pairs
+        if margin == 0:
+            test, p = "McNemar's exact test (one-sided)", mcnemar_p(counts)
+        else:
+            test = "exact unconditional test of b_only - a_only (one-sided)"
+            p = unconditional_p(counts, -margin)
+        low, high = unconditional_bounds(counts, alpha) if counts.n else (-1.0, 1.0)
+        decision = "shown" if p <= alpha else "refuted" if high < -margin else "not shown"
+        if not complete:
+            decision = "incomplete"
+        statement = (f"{claim_words(margin)}: {decision} at level {alpha:g} ({test}, "
+                     f"p = {bounds.ceil_str(p)})")
+        if not complete:
+            statement = (f"no decision: {counts.n} of the {self.pairs} pairs fixed in advance "
+                         "ran, and which ones finished first is not random")
+        return {"complete": complete, "test": test, "p_value": p, "decision": decision,
+                "interval": [low, high],
+                "interval_note": f"each bound at level {bounds.one_minus_str(alpha)} (the exact "
+                                 "unconditional test inverted)",
+                "statement": statement}
+
+    @staticmethod
+    def lines(report: Mapping[str, Any]) -> list[str]:
+        if not report["complete"]:
+            return [f"  no decision until all {report['planned_pairs']} pairs ran: the ones "
+                    "stored finished first (failures can end sooner)"]
+        low, high = report["interval"]
+        verdict = {"shown": "SHOWN", "not shown": "NOT SHOWN",
+                   "refuted": "REFUTED (the interval lies below -margin)"}[report["decision"]]
+        return [f"  {verdict}: {report['claim']}, at level {report['alpha']:g} "
+                f"({report['test']}, p = {bounds.ceil_str(report['p_value'])})",
+                f"  P_B - P_A in [{bounds.floor_str(low, 4)}, {bounds.ceil_str(high, 4)}], each "
+                f"bound at confidence level {bounds.one_minus_str(report['alpha'])}"]
+
+
+class SequentialPairs(PairedMethod):
+    """Pairs until the betting test decides, ``pairs`` (the cap) at most."""
+
+    name = "sequential"
+    stops_early = True
+
+    def __init__(self, margin: float, alpha: float, pairs: int):
+        super().__init__(margin, alpha, pairs)
+        self.decision: str | None = None
+        self.stopped_at: int | None = None
+
+    def observe(self, a_success: bool, b_success: bool) -> None:
+        super().observe(a_success, b_success)
+        threshold = -math.log(self.alpha)
+        if log_wealth(self.counts, -self.margin, "below") >= threshold:
+            self.decision = "shown"
+        elif log_wealth(self.counts, -self.margin, "above") >= threshold:
+            self.decision = "refuted"
+        if self.decision:
+            self.stopped_at = self.counts.n
+
+    @property
+    def decided(self) -> bool:
+        return self.decision is not None or self.counts.n >= self.pairs
+
+    def earliest_decision(self) -> int:
+        """The fewest pairs after which the test can show the claim (every pair "only B")."""
+        threshold, n = -math.log(self.alpha), 0
+        while True:
+            n += 1
+            if log_wealth(PairCounts(b_only=n), -self.margin, "below") >= threshold:
+                return n
+
+    def caveats(self) -> list[str]:
+        earliest = self.earliest_decision()
+        if earliest > self.pairs:
+            return [f"with at most {self.pairs} pairs nothing can be shown: the test cannot "
+                    f"decide before pair {earliest} (raise --max-pairs)"]
+        return []
+
+    def claim(self) -> dict[str, Any]:
+        low, high = anytime_bounds(self.counts, self.alpha)
+        decision = self.decision or "undecided"
+        return {"complete": self.decided, "test": SEQUENTIAL_TEST, "bets": list(BETS),
+                "decision": decision, "stopped_at": self.stopped_at, "max_pairs": self.pairs,
+                "log_wealth": {"for": log_wealth(self.counts, -self.margin, "below"),
+                               "against": log_wealth(self.counts, -self.margin, "above")},
+                "interval": [low, high],
+                "interval_note": f"anytime-valid, each bound at level "
+                                 f"{bounds.one_minus_str(self.alpha)} for every n at once",
+                "statement": f"{claim_words(self.margin)}: {decision} at level {self.alpha:g}, "
+                             f"anytime-valid ({SEQUENTIAL_TEST}), after {self.counts.n} pairs"}
+
+    @staticmethod
+    def lines(report: Mapping[str, Any]) -> list[str]:
+        decision, alpha = report["decision"], report["alpha"]
+        if decision == "shown":
+            head = (f"  SHOWN after {report['stopped_at']} pairs: {report['claim']}, at level "
+                    f"{alpha:g}, valid however often the test looked")
+        elif decision == "refuted":
+            by = f" by more than {report['margin']:g}" if report["margin"] else ""
+            head = (f"  REFUTED after {report['stopped_at']} pairs: B is less reliable than "
+                    f"A{by}, at level {alpha:g}, valid however often the test looked")
+        elif not report["complete"]:
+            head = (f"  UNDECIDED so far, after {report['pairs']} pairs: the comparison was "
+                    "interrupted; nothing is shown")
+        else:
+            head = (f"  UNDECIDED after {report['pairs']} pairs (the cap, --max-pairs): nothing "
+                    f"is shown. A rerun with another seed is a new test: each may be wrong with "
+                    f"probability {alpha:g}, so r tests together up to r x {alpha:g}")
+        low, high = report["interval"]
+        return [head,
+                f"  anytime-valid: P_B - P_A in [{bounds.floor_str(low, 4)}, "
+                f"{bounds.ceil_str(high, 4)}], each bound at confidence level "
+                f"{bounds.one_minus_str(alpha)}, simultaneously for every number of pairs",
+                f"  test: {report['test']}"]
+
+
+PAIRED_METHODS: dict[str, type[PairedMethod]] = {m.name: m for m in (FixedPairs, SequentialPairs)}
+
+
+def paired_method_named(name: str) -> type[PairedMethod]:
+    try:
+        return PAIRED_METHODS[name]
+    except KeyError:
+        raise ValueError(f"unknown statistical method {name!r} (known: "
+                         f"{', '.join(PAIRED_METHODS)})") from None
+
+
+def simulate(probabilities: tuple[float, float, float, float], margin: float, alpha: float,
+             streams: int, max_pairs: int, rng: np.random.Generator | None = None,
+             outcomes: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Run the sequential test on ``streams`` i.i.d. paired streams at once (vectorised), with
+    ``probabilities`` those of (both, only A, only B, neither), drawn from ``rng``, or on given
+    ``outcomes`` (streams x max_pairs, 0 both, 1 only A, 2 only B, 3 neither). Returns
+    ``(decisions, stops)``: +1 shown, -1 refuted, 0 undecided, and the pairs each used. The
+    rule of :class:`SequentialPairs`, on the same wealths."""
+    d0, threshold = -margin, -math.log(alpha)
+    c = np.array(BETS)[:, None]
+    x = np.array([1.0, 0.0, -1.0]) - d0  # columns: only B, concordant, only A
+    up, down = np.log1p(c * x / (1.0 + d0)), np.log1p(-c * x / (1.0 - d0))  # bets x columns
+    column = np.array([1, 2, 0, 1])  # both, only A, only B, neither -> their column
+    cumulative = np.cumsum(probabilities)
+    decisions = np.zeros(streams, dtype=int)
+    stops = np.full(streams, max_pairs)
+    held = np.zeros((streams, 3))
+    open_ = np.arange(streams)
+    block, start = 256, 0
+    while start < max_pairs and open_.size:
+        width = min(block, max_pairs - start)
+        if outcomes is None:
+            kinds = np.searchsorted(cumulative, rng.random((open_.size, width)), side="right")
+        else:
+            kinds = outcomes[open_, start:start + width]
+        counts = held[open_, None, :] + np.cumsum(np.eye(3)[column[kinds.clip(max=3)]], axis=1)
+        lw_up, lw_down = _log_mean_exp(counts @ up.T), _log_mean_exp(counts @ down.T)
+        shown = lw_up >= threshold
+        hit = shown | (lw_down >= threshold)
+        done = hit.any(axis=1)
+        first = hit.argmax(axis=1)
+        rows = open_[done]
+        stops[rows] = start + 1 + first[done]
+        decisions[rows] = np.where(shown[done, first[done]], 1, -1)
+        held[open_] = counts[:, -1, :]
+        open_ = open_[~done]
+        start += width
+    return decisions, stops
+
+
+def _log_mean_exp(x: np.ndarray) -> np.ndarray:
+    top = x.max(axis=-1, keepdims=True)
+    return (top + np.log(np.exp(x - top).mean(axis=-1, keepdims=True)))[..., 0]
