@@ -126,12 +126,14 @@ class Comparison:
             side.close()
 
     def differences(self) -> list[str]:
-        """What differs between the sides' envs (kwargs, sampling distribution): their pairs
-        share reset seeds, not the env."""
+        """What differs between the sides' envs: their pairs share reset seeds, not the env
+        (the kwargs, else the sampling distribution)."""
         a, b = (side.plan for side in self.sides)
-        return [f"{key}: A {a[key]!r}, B {b[key]!r}" for key in ("env_kwargs",
-                                                                 "sampling_distribution")
-                if a[key] != b[key]]
+        if a["env_kwargs"] != b["env_kwargs"]:
+            return [f"env kwargs: A {a['env_kwargs']!r}, B {b['env_kwargs']!r}"]
+        if a["sampling_distribution"] != b["sampling_distribution"]:
+            return ["sampling distributions (see the report)"]
+        return []
 
     def method(self) -> PairedMethod:
         config = self.config
@@ -190,7 +192,8 @@ class Comparison:
 def _side_summary(plan: Mapping[str, Any], episodes: list[EpisodeResult]) -> dict[str, Any]:
     successes = sum(r.success for r in episodes)
     return {"policy": plan["policy"], "env_kwargs": plan["env_kwargs"],
-            "env_modules": plan["env_modules"], "content_sha256": plan["content_sha256"], "successes": successes,
+            "env_modules": plan["env_modules"],
+            "sampling_distribution": plan["sampling_distribution"], "content_sha256": plan["content_sha256"], "successes": successes,
             "failures": len(episodes) - successes,
             "mean_primitives": (sum(r.primitives for r in episodes) / len(episodes))
             if episodes else 0.0,
@@ -276,6 +279,9 @@ class ComparisonReport(Mapping[str, Any]):
                   f"neither {counts['neither']}"]
         lines += paired_method_named(self["mode"]).lines(self)
         lines.append(f"  holds for: {self['sampling_distribution']}")
+        if b["sampling_distribution"] != self["sampling_distribution"]:
+            lines[-1] = f"  holds for A: {self['sampling_distribution']}"
+            lines.append(f"  holds for B: {b['sampling_distribution']}")
         differ = self["discordant_pairs"]
         for item in differ[:5]:
             failed = "b" if item["succeeded"] == "a" else "a"
