@@ -239,6 +239,11 @@ def test_comparison_benchmark_at_small_scale_and_its_reuse(tmp_path, capsys):
     assert (tmp_path / "compare.png").stat().st_size > 1000
     assert (tmp_path / "compare.csv").read_text().count("\n") == 1 + len(rows)
     assert (tmp_path / "behaviors" / "goal_and_back.json").exists()
+    assert "What the data support" in table and "{platform" not in table
+    for r in rows[1:]:  # the graph never fails: every failure of the others is "only graph"
+        assert len(r["failed"]) == 6 - r["successes"]
+        assert f"| {r['seed'] if r['seed'] is not None else '-'} | {6 - r['successes']} | 0 |" \
+            in table
 
     assert all("/" not in m["path"] for m in manifest)  # names beside the manifest
     assert main(args + ["--reuse"]) == 0  # the same agents, verified again, no training
@@ -370,6 +375,31 @@ def test_the_random_floor_draws_uniformly_among_admissible_actions():
     report = run_campaign(CampaignConfig(FIND_GOAL, PolicyRef("random", "admissible"), 20, seed=1,
                                          env_kwargs=TASKS["find_goal"].env_kwargs))
     assert report["episodes"] == 20 and report["mean_primitives"] > 19  # the graph needs 19
+
+
+def test_rows_pair_up_on_their_failed_episodes():
+    from vlb_gym.baselines.compare import Row, paired, support
+
+    def row(contestant, kind, failed, seed=None):
+        return Row("find_goal", contestant, kind, seed, 100, 100 - len(failed), 0.9, 0.9, 59,
+                   19.0, None, None, None, 1.0, tuple(failed))
+
+    graph = row("g", "graph", [3, 50])
+    worse = row("w", "rl", range(40, 60), seed=0)  # 19 failures the graph has not, 1 shared
+    test = paired(graph, worse)
+    assert (test["only_graph"], test["only_contestant"]) == (19, 1)
+    assert test["graph_better_p"] == pytest.approx(21 / 2 ** 20, rel=1e-9)  # P[Bin(20,.5)>=19]
+    assert test["verdict"].startswith("graph more reliable")
+    same = paired(graph, row("s", "rl", [3, 50], seed=1))
+    assert same["verdict"] == "no difference shown" and same["graph_better_p"] == 1.0
+    lines = support([graph, worse, row("w", "rl", [3], seed=1)])
+    assert lines == ["- find_goal: w, 2 seed(s): the graph is shown more reliable on 1, w on 0, "
+                     "no difference shown on 1"]
+    legacy = row("old", "rl", [], seed=0)
+    legacy = Row(*[getattr(legacy, f) for f in ("task", "contestant", "kind", "seed",
+                                                "episodes")], 90, *[0.9, 0.9, 59, 19.0, None,
+                                                                    None, None, 1.0])
+    assert support([graph, legacy]) == []  # no failed episodes recorded: nothing to pair
 
 
 def test_the_comparison_table_rounds_bounds_down():

@@ -77,7 +77,15 @@ def test_a_rate_at_or_above_epsilon_never_certifies():
 
 
 def test_seeds_are_described_as_far_as_they_support():
+    from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
+
     from vlb_gym.baselines.stats import describe
+
+    def floor(x):
+        return str(Decimal(repr(x)).quantize(Decimal("0.01"), rounding=ROUND_FLOOR))
+
+    def ceil(x):
+        return str(Decimal(repr(x)).quantize(Decimal("0.01"), rounding=ROUND_CEILING))
 
     assert describe([0.98]) == "0.98"
     assert describe([0.88, 0.77, 0.82]) == "mean 0.82; seeds 0.77, 0.82, 0.88"  # no interval
@@ -85,4 +93,5 @@ def test_seeds_are_described_as_far_as_they_support():
     ten = [0.80, 0.82, 0.84, 0.85, 0.86, 0.88, 0.90, 0.91, 0.93, 0.99]
     text = describe(ten)
     agg = aggregate(ten)
-    assert text == f"IQM {agg.iqm:.2f} [{agg.low:.2f}, {agg.high:.2f}]"
+    assert text == f"IQM {floor(agg.iqm)} [{floor(agg.low)}, {ceil(agg.high)}]"
+    assert describe([0.996, 0.999]) == "mean 0.99; seeds 0.99, 0.99"  # never 1.00 unless 1

@@ -39,7 +39,8 @@ from pathlib import Path
 
 from vlb_gym.core.files import InputFileError, read_json_file, write_atomic
 from vlb_gym.core.library import BehaviorLibrary
-from vlb_gym.verify.bounds import floor_str
+from vlb_gym.verify.bounds import ceil_str, floor_str
+from vlb_gym.verify.paired import PairCounts, mcnemar_p
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 from vlb_gym.verify.policies import PolicyRef
 
@@ -70,6 +71,7 @@ class Row:
     train_seconds: float | None
     steps_per_second: float | None
     verify_seconds: float
+    failed: tuple[int, ...] = ()  # the failed episodes' indices: rows pair up on them
 
     @property
     def success_rate(self) -> float:
@@ -92,7 +94,7 @@ def _row(task: TaskConfig, name: str, kind: str, report: dict, meta: dict | None
                report["lower_bound"], report["confidence"],
                episodes_to_certify(rate, EPSILON, CERTIFY_CONFIDENCE), report["mean_primitives"],
                meta.get("steps"), meta.get("wall_seconds"), meta.get("steps_per_second"),
-               report["wall_seconds"])
+               report["wall_seconds"], tuple(e["index"] for e in report["failed_episodes"]))
 
 
 def synthesized_graphs(library: BehaviorLibrary) -> None:
@@ -258,7 +260,7 @@ def write_csv(rows: list[Row], path: Path) -> None:
     with path.open("w", newline="") as handle:
         writer = csv.DictWriter(handle, [f.name for f in fields(Row)])
         writer.writeheader()
-        writer.writerows(asdict(r) for r in rows)
+        writer.writerows({**asdict(r), "failed": " ".join(map(str, r.failed))} for r in rows)
 
 
 def _number(x: float | None) -> str:
@@ -267,6 +269,59 @@ def _number(x: float | None) -> str:
 
 def _certify_text(n: float) -> str:
     return "never (rate >= eps)" if math.isinf(n) else f"{n:,.0f}"
+
+
+def paired(graph: Row, row: Row) -> dict:
+    """``row`` against the task's hand-written ``graph`` on the same reset seeds (episode ``i``
+    of each): the discordant pairs and McNemar's exact one-sided test each way, at level
+    :data:`DELTA`; ``verdict`` says what the pairs support."""
+    if (graph.episodes, graph.task) != (row.episodes, row.task):
+        raise ValueError(f"{row.contestant} and {graph.contestant} did not run the same episodes")
+    graph_failed, row_failed = set(graph.failed), set(row.failed)
+    only_graph, only_row = len(row_failed - graph_failed), len(graph_failed - row_failed)
+    neither = len(graph_failed & row_failed)
+    both = row.episodes - only_graph - only_row - neither
+    graph_better = mcnemar_p(PairCounts(both, only_row, only_graph, neither))
+    row_better = mcnemar_p(PairCounts(both, only_graph, only_row, neither))
+    if graph_better <= DELTA:
+        verdict = f"graph more reliable (p = {ceil_str(graph_better, 3)})"
+    elif row_better <= DELTA:
+        verdict = f"{row.contestant} more reliable (p = {ceil_str(row_better, 3)})"
+    else:
+        verdict = "no difference shown"
+    return {"only_graph": only_graph, "only_contestant": only_row, "graph_better_p": graph_better,
+            "contestant_better_p": row_better, "verdict": verdict}
+
+
+def support(rows: list[Row]) -> list[str]:
+    """What the data support, per task and contestant at its largest training budget: on how
+    many seeds the paired test shows the graph (or the contestant) more reliable."""
+    lines = []
+    for task, graph, mine in _pairable(rows):
+        for contestant in dict.fromkeys(r.contestant for r in mine):
+            runs = [r for r in mine if r.contestant == contestant]
+            steps = max((r.train_steps or 0) for r in runs)
+            runs = [r for r in runs if (r.train_steps or 0) == steps]
+            tests = [paired(graph, r) for r in runs]
+            worse = sum(t["graph_better_p"] <= DELTA for t in tests)
+            better = sum(t["contestant_better_p"] <= DELTA for t in tests)
+            at = f" at {steps} steps" if steps else ""
+            seeds = f"{len(runs)} seed(s)" if runs[0].seed is not None else "its one run"
+            lines.append(f"- {task}: {contestant}{at}, {seeds}: the graph is shown more "
+                         f"reliable on {worse}, {contestant} on {better}, no difference shown on "
+                         f"{len(runs) - worse - better}")
+    return lines
+
+
+def _pairable(rows: list[Row]) -> Iterator[tuple[str, Row, list[Row]]]:
+    """Per task: its graph's row and the other rows that know their failed episodes (rows
+    written before they kept them do not)."""
+    known = [r for r in rows if len(r.failed) == r.episodes - r.successes]
+    for task in dict.fromkeys(r.task for r in known):
+        mine = [r for r in known if r.task == task]
+        graph = next((r for r in mine if r.kind == "graph"), None)
+        if graph is not None:
+            yield task, graph, [r for r in mine if r.kind != "graph"]
 
 
 def summary(rows: list[Row]) -> list[dict]:
@@ -295,7 +350,8 @@ def markdown(rows: list[Row], episodes: int, seed: int) -> str:
              f"Clopper-Pearson); *episodes to certify*: the least N at which a campaign "
              f"certifies P >= {1 - EPSILON:g} at {CERTIFY_CONFIDENCE:.0%} confidence with "
              f"probability {CERTIFY_PROBABILITY:.0%}, were the row's measured failure rate the "
-             "true one (its own uncertainty, from the row's episodes, is not counted). Machine: {platform.machine()}, Python "
+             "true one (its own uncertainty, from the row's episodes, is not counted). "
+             f"Machine: {platform.machine()}, Python "
              f"{platform.python_version()}.", "",
              "Across training seeds (the success rate's IQM with a 95% percentile-bootstrap "
              f"interval from {MIN_SEEDS_FOR_INTERVAL} seeds on; with fewer, its mean and every "
@@ -323,6 +379,24 @@ def markdown(rows: list[Row], episodes: int, seed: int) -> str:
             f"{_certify_text(r.episodes_to_certify)} | "
             f"{r.mean_primitives:.1f} | {r.train_steps if r.train_steps is not None else '-'} | "
             f"{_number(r.train_seconds)} | {r.verify_seconds:.1f} |")
+    supported = support(rows)
+    if supported:
+        lines += ["", "What the data support: each contestant against the task's hand-written "
+                  f"graph on the same {episodes} reset seeds (episode i of each pairs up), "
+                  f"McNemar's exact test one-sided each way at level {DELTA:g} (the two "
+                  f"together a two-sided test at {2 * DELTA:g}), per training seed at the "
+                  "largest budget:", "", *supported, "",
+                  "Every pair of runs (only graph: episodes the graph finished and the "
+                  "contestant failed):", "",
+                  "| task | contestant | training steps | seed | only graph | only contestant "
+                  "| verdict |", "| --- | --- | ---: | ---: | ---: | ---: | --- |"]
+        for task, graph, others in _pairable(rows):
+            for r in others:
+                t = paired(graph, r)
+                lines.append(f"| {task} | {r.contestant} | "
+                                 f"{r.train_steps if r.train_steps is not None else '-'} | "
+                                 f"{r.seed if r.seed is not None else '-'} | {t['only_graph']} "
+                                 f"| {t['only_contestant']} | {t['verdict']} |")
     return "\n".join(lines) + "\n"
 
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from vlb_gym.verify.bounds import min_episodes
+from vlb_gym.verify.bounds import min_episodes, rounded
 
 TRIM = 0.25
 CERTIFY_PROBABILITY = 0.9
@@ -51,12 +51,12 @@ def describe(scores: Sequence[float]) -> str:
     bootstrap interval from :data:`MIN_SEEDS_FOR_INTERVAL` seeds on, else every seed's value."""
     values = sorted(float(s) for s in scores)
     if len(values) == 1:  # one campaign (a graph): its rate
-        return f"{values[0]:.2f}"
-    centre = f"{'IQM' if int(TRIM * len(values)) > 0 else 'mean'} {iqm(values):.2f}"
+        return rounded(values[0], 2)
+    centre = f"{'IQM' if int(TRIM * len(values)) > 0 else 'mean'} {rounded(iqm(values), 2)}"
     if len(values) >= MIN_SEEDS_FOR_INTERVAL:
         agg = aggregate(values)
-        return f"{centre} [{agg.low:.2f}, {agg.high:.2f}]"
-    return f"{centre}; seeds " + ", ".join(f"{v:.2f}" for v in values)
+        return f"{centre} [{rounded(agg.low, 2)}, {rounded(agg.high, 2, up=True)}]"
+    return f"{centre}; seeds " + ", ".join(rounded(v, 2) for v in values)
 
 
 @dataclass(frozen=True)

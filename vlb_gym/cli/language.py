@@ -134,7 +134,7 @@ def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> 
     from vlb_gym.abstractor.sketches import SPACES
     from vlb_gym.core.library import BehaviorLibrary, spec_json
     from vlb_gym.core.spec import spec_from_data
-    from vlb_gym.verify.bounds import floor_str
+    from vlb_gym.verify.bounds import floor_str, one_minus_str
 
     if args.verify or args.uses or args.info:
         raise UsageError("--certify: --verify, --uses and --info are for the graph-first "
@@ -171,7 +171,7 @@ def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> 
     cert = got.search.certification
     print(f"{name}: {got.search.candidate.label} (after {got.search.seconds:.0f} s)\n"
           f"  certified on {cert.successes}/{len(cert.episodes)} fresh episodes (root seed "
-          f"{cert.seed}): the promise holds with P >= {1 - EPSILON:g} at confidence "
+          f"{cert.seed}): the promise holds with P >= {one_minus_str(EPSILON)} at confidence "
           f"{floor_str(got.search.confidence)} (union bound over up to {ATTEMPTS} "
           f"certification campaigns of {certification_episodes()} episodes)\n"
           f"  saved: {path}\n  transcript: {transcript}")

@@ -174,7 +174,7 @@ def failure_blocks(report: dict[str, Any], episodes: list[dict[str, Any]],
         seeds = group.get("seeds", [])
         example = first_of.get(cause, {})
         index = example.get("index", index_of.get(seeds[0]) if seeds else None)
-        row = [cause, str(group.get("count")), f"{group.get('count', 0) / total:.1%}",
+        row = [cause, str(group.get("count")), bounds.rounded(group.get("count", 0) / total, 1, up=True, percent=True),
                joined([Code(str(s)) for s in seeds]),
                short(example.get("reason") or "", 160)]
         if store_path is not None:
@@ -278,7 +278,7 @@ def primitive_table(episodes: list[dict[str, Any]]) -> list[Block]:
     if not table:
         return []
     return [Table(["primitive", "steps", "failed certificates", "failure rate"],
-                  [[name, str(s.runs), str(s.failed), f"{s.failed / s.runs:.2%}"]
+                  [[name, str(s.runs), str(s.failed), bounds.rounded(s.failed / s.runs, 2, up=True, percent=True)]
                    for name, s in sorted(table.items())], numeric=(1, 2, 3))]
 
 

@@ -57,7 +57,7 @@ def confidence_png(n: int, k: int, epsilon: float, delta: float, note: str = "")
     meet = 1.0 - bounds.lower_bound(n, k, delta)
     if grid[0] <= meet <= grid[-1]:
         ax.plot([meet], [level], "s", color="#c0392b", ms=5,
-                label=f"eps = 1 - lower bound = {meet:.4g}")
+                label=f"eps = 1 - lower bound = {bounds.ceil_str(meet, 4)}")
     ax.set_xscale("log")
     ax.set_ylim(-0.02, 1.02)
     ax.set_xlabel("eps (claim: P[success] >= 1 - eps)")

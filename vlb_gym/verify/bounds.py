@@ -7,8 +7,8 @@
   level ``1 - delta``: ``beta.ppf(delta, N - k, k + 1)`` (``delta**(1/N)`` for k = 0).
 * :func:`min_episodes` -- the least N whose confidence reaches the target with at most k failures
   (``ceil(log(delta) / log(1 - eps))`` for k = 0), for any eps: N may exceed 2**63.
-* :func:`floor_str` and :func:`one_minus_str` -- numbers for guarantees stated in words, written so
-  that they never claim more than was computed.
+* :func:`rounded` (and :func:`floor_str`, :func:`ceil_str`, :func:`one_minus_str`) -- numbers
+  for guarantees stated in words, written so that they never claim more than was computed.
 
 The two statements are dual: with ``delta = 1 - confidence(N, k, eps)`` the lower bound equals
 ``1 - eps``. N must be fixed before the campaign; adding episodes until the bound passes is not a
@@ -127,19 +127,30 @@ def _least(reaches: Callable[[int], bool], guess: int, lowest: int) -> int:
     return high
 
 
+def rounded(x: float, digits: int, up: bool = False, percent: bool = False) -> str:
+    """``x`` with ``digits`` decimals (of a percentage with ``percent``), rounded down, or up
+    with ``up``, exactly: the decimal rounded is the shortest that reads back as ``x`` (the
+    float 0.99 prints ``0.99000``). Every figure vlb-gym prints goes through this function, on
+    the side where it claims less: lower bounds, confidences and success rates down; upper
+    bounds, p-values, failure rates and eps up."""
+    value = Decimal(repr(float(x)))
+    if percent:
+        value = value.scaleb(2)
+    text = str(value.quantize(Decimal(1).scaleb(-digits),
+                              rounding=ROUND_CEILING if up else ROUND_FLOOR))
+    return text + ("%" if percent else "")
+
+
 def floor_str(x: float, digits: int = 5) -> str:
     """A probability in words, with ``digits`` decimals, rounded down so that it never claims more
     than the number: 0.9499958 is ``0.94999``, not ``0.95000``. The confidences and bounds of a
-    finite campaign are below 1, so a value that rounded up to 1.0 prints as ``0.99999``. The
-    decimal rounded is the shortest that reads back as ``x`` (the float 0.99 prints ``0.99000``)."""
-    below_one = min(x, math.nextafter(1.0, 0.0))
-    return str(Decimal(repr(below_one)).quantize(Decimal(1).scaleb(-digits),
-                                                 rounding=ROUND_FLOOR))
+    finite campaign are below 1, so a value that rounded up to 1.0 prints as ``0.99999``."""
+    return rounded(min(x, math.nextafter(1.0, 0.0)), digits)
 
 
 def ceil_str(x: float, digits: int = 5) -> str:
     """An upper bound in words, rounded up (never below the number)."""
-    return str(Decimal(repr(x)).quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING))
+    return rounded(x, digits, up=True)
 
 
 def one_minus_str(p: float) -> str:
