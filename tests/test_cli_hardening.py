@@ -277,12 +277,17 @@ def test_policy_help_warns_that_loading_runs_code(capsys):
 
 
 @pytest.mark.timeout(60)
-def test_ctrl_c_keeps_the_episodes_and_prints_one_line(tmp_path):
-    stream = tmp_path / "episodes.jsonl"
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
+def test_ctrl_c_keeps_the_episodes_and_prints_one_line(signum, tmp_path):
+    """Ctrl-C, and SIGTERM or SIGHUP to the process group (what `timeout`, a closed terminal or
+    a job scheduler send), end a campaign alike: one line, every finished episode kept, the
+    workers' temporary directory gone, exit code 128 + the signal (130 for Ctrl-C)."""
+    stream, temporary = tmp_path / "episodes.jsonl", tmp_path / "tmp"
+    temporary.mkdir()
     proc = subprocess.Popen(
         [sys.executable, "-m", "vlb_gym.cli", "verify", GRID, "--behavior",
          "find_goal_and_oscillate", "--episodes", "100000", "--epsilon", "0.05", "--workers", "2",
-         "--episodes-out", str(stream)],
+         "--episodes-out", str(stream)], env={**os.environ, "TMPDIR": str(temporary)},
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         # a process group of its own, as a shell job has, with Ctrl-C's default handling even
         # when this test runs in the background (where SIGINT is ignored and that is inherited)
@@ -292,13 +297,14 @@ def test_ctrl_c_keeps_the_episodes_and_prints_one_line(tmp_path):
         while not (stream.exists() and stream.read_text().count('"record":"episode"') > 5):
             assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
             time.sleep(0.05)
-        os.killpg(proc.pid, signal.SIGINT)  # what Ctrl-C in a terminal does
+        os.killpg(proc.pid, signum)  # SIGINT: what Ctrl-C in a terminal does
         out, err = proc.communicate(timeout=15)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
     plan, episodes, end = read_export(stream)
-    assert proc.returncode == 130, err
+    assert proc.returncode == 128 + signum, err
+    assert not [p for p in temporary.iterdir() if p.name.startswith("vlb-workers-")]
     assert "Traceback" not in err and err.count("\n") == 1, err
     assert err == f"vlb verify: interrupted; {len(episodes)} episode(s) written to {stream}\n"
     assert 0 < len(episodes) < 100000 and plan["episodes"] == 100000
@@ -508,3 +514,69 @@ def test_an_episode_index_beyond_any_store_is_one_line(tmp_path, capsys):
     capsys.readouterr()
     assert main(["replay", str(store), "--episode", str(2**70)]) == 2
     one_line_error(capsys, "episode", "not stored")
+
+
+# --------------------------------------------------------------------------- the terminal
+
+
+def test_nothing_printed_can_drive_the_terminal():
+    from vlb_gym.cli.terminal import neutral
+
+    hostile = "a\x1b]52;c;ZXZpbA==\x07b\x1b[2J\u202ec\x9b\x00d\te\nf\rg"
+    shown = neutral(hostile)
+    assert shown == "a\\x1b]52;c;ZXZpbA==\\x07b\\x1b[2J\\u202ec\\x9b\\x00d\te\nf\rg"
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.text())
+def test_neutral_text_has_no_control_or_format_character(text):
+    import unicodedata
+
+    from vlb_gym.cli.terminal import neutral
+
+    for char in neutral(text):
+        assert char in "\t\n\r" or unicodedata.category(char) not in ("Cc",) and \
+            char not in "\u200b\u200c\u200d\u200e\u200f\u202a\u202b\u202c\u202d\u202e" \
+            "\u2066\u2067\u2068\u2069\ufeff"
+
+
+def test_a_store_reason_is_printed_neutralised(tmp_path, capsys):
+    import sqlite3
+
+    store = tmp_path / "c.db"
+    assert verify("--store", str(store), behavior=EXAMPLES / "fixed_cell.json",
+                  episodes=12) == 0
+    capsys.readouterr()
+    with sqlite3.connect(store) as db:  # a store from elsewhere, its reasons edited
+        for index, text in db.execute("SELECT idx, record FROM episodes").fetchall():
+            record = json.loads(text)
+            if record["reason"]:
+                record["reason"] = "\x1b]0;owned\x07\x1b[2J" + record["reason"]
+                db.execute("UPDATE episodes SET record = ? WHERE idx = ?",
+                           (json.dumps(record), index))
+    assert main(["report", str(store)]) == 0
+    out = capsys.readouterr().out
+    assert "\x1b" not in out and "\\x1b]0;owned\\x07\\x1b[2J" in out
+
+
+def test_a_delta_too_small_for_floating_point_is_one_line(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["verify", GRID, "--behavior", "explore_until_goal", "--sequential",
+              "--epsilon", "0.1", "--delta", "1e-300"])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "1 - 1e-300 is 1 in floating point" in err
+
+
+def test_an_agent_zip_without_an_agent_is_one_line(tmp_path, capsys):
+    import zipfile
+
+    agent = tmp_path / "agent.zip"
+    with zipfile.ZipFile(agent, "w") as archive:
+        archive.writestr("readme.txt", "not an agent")
+    agent.with_suffix(".json").write_text(json.dumps(
+        {"algorithm": "maskable_ppo", "env_id": "VLB-GridExplore-FindGoal-v0",
+         "env_kwargs": {}}))
+    assert main(["verify", "VLB-GridExplore-FindGoal-v0", "--policy", str(agent),
+                 "--episodes", "3", "--epsilon", "0.1"]) == 2
+    one_line_error(capsys, "agent.zip: not a saved maskable_ppo agent")

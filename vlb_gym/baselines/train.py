@@ -150,7 +150,11 @@ class SB3Policy:
         self.meta = load_metadata(path)
         if not zip_path.is_file():
             raise ValueError(f"{zip_path}: no such saved agent")
-        self.model = _algorithm(self.meta["algorithm"]).load(zip_path, device="cpu")
+        try:
+            self.model = _algorithm(self.meta["algorithm"]).load(zip_path, device="cpu")
+        except Exception as exc:  # any malformed file: SB3 raises what its readers raise
+            raise ValueError(f"{zip_path}: not a saved {self.meta['algorithm']} agent "
+                             f"({type(exc).__name__}: {str(exc)[:200]})") from None
         if sample and not isinstance(self.model.action_space, gym.spaces.Discrete):
             raise ValueError(f"{zip_path}: sampling needs a discrete action space, not "
                              f"{self.model.action_space}")

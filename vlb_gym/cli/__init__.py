@@ -7,13 +7,18 @@ when it runs, if it needs them."""
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import sys
+import threading
+from collections.abc import Iterator
 
 import vlb_gym
 
 from . import baselines, compare, language, library, replay, report, verify
 from .common import Parser, UsageError
+from .terminal import neutral_output
 
 
 def parser() -> Parser:
@@ -29,9 +34,17 @@ def parser() -> Parser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run one command; user errors (bad arguments, unreadable or invalid files, impossible
-    settings) are one line ``vlb COMMAND: error: ...`` on stderr and exit code 2, Ctrl-C is
-    ``vlb COMMAND: interrupted`` and exit code 130."""
+    settings) are one line ``vlb COMMAND: error: ...`` on stderr and exit code 2; Ctrl-C,
+    SIGTERM and SIGHUP end it alike (the workers stopped, stores consistent, one
+    ``interrupted`` line), with exit code 130 (128 + the signal's number for the others).
+    Everything printed goes through :func:`~.terminal.neutral`."""
     args = parser().parse_args(argv)
+    with neutral_output(), termination_as_interrupt() as received:
+        code = _run(args)
+    return 128 + received[0] if received and code == 130 else code
+
+
+def _run(args) -> int:
     try:
         return args.func(args)
     except BrokenPipeError:  # the reader went away (``vlb ... | head``): not an error of ours
@@ -45,3 +58,28 @@ def main(argv: list[str] | None = None) -> int:
         # are ValueErrors
         print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
         return 2
+
+
+@contextlib.contextmanager
+def termination_as_interrupt() -> Iterator[list[int]]:
+    """SIGTERM and SIGHUP raise KeyboardInterrupt, as Ctrl-C does, while the block runs (in the
+    main thread); the list yielded holds the signal received. A second one while the first is
+    being handled is ignored (SIGKILL still ends the process)."""
+    received: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield received
+        return
+
+    def interrupt(signum: int, frame: object) -> None:
+        for name in ("SIGTERM", "SIGHUP"):
+            signal.signal(getattr(signal, name), signal.SIG_IGN)
+        received.append(signum)
+        raise KeyboardInterrupt
+
+    saved = {name: signal.signal(getattr(signal, name), interrupt)
+             for name in ("SIGTERM", "SIGHUP")}
+    try:
+        yield received
+    finally:
+        for name, handler in saved.items():
+            signal.signal(getattr(signal, name), handler)

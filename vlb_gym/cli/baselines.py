@@ -109,7 +109,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                     help="training seeds per configuration: --seed .. --seed + N - 1")
     cc.add_argument("--reuse", action="store_true",
                     help="verify the agents of OUT/agents/manifest.json again instead of "
-                    "training them (those missing are trained)")
+                    "training them (those missing are trained); loading an agent runs code "
+                    "from its file (pickle): reuse only agents you trust")
     cc.add_argument("--subprocesses", action="store_true",
                     help="step the --n-envs training envs in worker processes")
     cc.add_argument("--jobs", type=count(1), default=1, metavar="N",

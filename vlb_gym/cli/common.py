@@ -55,6 +55,17 @@ def probability(text: str) -> float:
     return value
 
 
+def level(text: str) -> float:
+    """A probability of error (``--delta``, ``--alpha``): strictly between 0 and 1, and large
+    enough that ``1 - value`` is below 1 in floating point."""
+    value = probability(text)
+    if 1.0 - value == 1.0:
+        raise argparse.ArgumentTypeError(
+            f"{text} is too small: 1 - {text} is 1 in floating point (the least usable value "
+            "is about 1.2e-16)")
+    return value
+
+
 def fraction(text: str) -> float:
     """A number in [0, 1]."""
     try:

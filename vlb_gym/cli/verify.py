@@ -11,7 +11,7 @@ from pathlib import Path
 from vlb_gym.core.files import write_atomic
 
 from .common import (UsageError, add_env_kwarg, check_output, clamp_workers,
-                     count, env_kwargs, env_modules, policy_ref, probability)
+                     count, env_kwargs, env_modules, level, policy_ref, probability)
 
 def _check_verify_args(args: argparse.Namespace) -> None:
     if args.sequential and args.episodes is not None:
@@ -183,7 +183,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "for EPS = DELTA = 0.05)")
     v.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
                    help="the claim is P[success] >= 1 - EPS")
-    v.add_argument("--delta", type=probability, default=0.05,
+    v.add_argument("--delta", type=level, default=0.05,
                    help="lower bound at confidence level 1 - DELTA")
     v.add_argument("--seed", type=count(0), default=0,
                    help="campaign seed: the episodes' reset seeds derive from it")

@@ -1,0 +1,48 @@
+"""What reaches the terminal: everything ``vlb`` prints goes through :func:`neutral`, so that
+text from its inputs (a store's reasons, a behavior's names, a model's reply, a server's error
+body) can never drive the terminal: escape sequences (clear the screen, set the title, write
+the clipboard with OSC 52), other control characters and bidirectional overrides are shown as
+``\\x1b``-style escapes instead. Tabs, newlines and carriage returns (progress bars) pass."""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+from collections.abc import Iterator
+from typing import Any, TextIO
+
+_KEPT = {"\t", "\n", "\r"}
+_FORMAT = [*range(0x200B, 0x2010), *range(0x202A, 0x202F), *range(0x2066, 0x206A), 0xFEFF]
+_TABLE = {c: f"\\x{c:02x}" for c in [*range(0x20), 0x7F, *range(0x80, 0xA0)]
+          if chr(c) not in _KEPT}
+_TABLE.update({c: f"\\u{c:04x}" for c in _FORMAT})
+
+
+def neutral(text: str) -> str:
+    """``text`` with every character that could drive a terminal written as an escape."""
+    return text.translate(_TABLE)
+
+
+class NeutralStream:
+    """A text stream that writes through :func:`neutral` to ``inner``."""
+
+    def __init__(self, inner: TextIO):
+        self.inner = inner
+
+    def write(self, text: str) -> int:
+        self.inner.write(neutral(text))
+        return len(text)
+
+    def __getattr__(self, name: str) -> Any:  # flush, isatty, fileno, encoding, ...
+        return getattr(self.inner, name)
+
+
+@contextlib.contextmanager
+def neutral_output() -> Iterator[None]:
+    """Standard output and error through :func:`neutral` while the block runs."""
+    saved = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = NeutralStream(sys.stdout), NeutralStream(sys.stderr)
+    try:
+        yield
+    finally:
+        sys.stdout, sys.stderr = saved
