@@ -15,6 +15,7 @@ import fcntl
 import json
 import os
 import sqlite3
+import urllib.parse
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -68,8 +69,12 @@ class CampaignStore:
             self._check_foreign()
         self._lock: int | None = None
         if readonly:
-            self.db = sqlite3.connect(f"file:{self.path}?mode=ro", uri=True, isolation_level=None)
+            self.db = _connect_readonly(self.path)
             return
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise StoreError(f"{self.path}: cannot make its directory ({exc.strerror})") from None
         self._lock = self._exclusive()
         self.db = sqlite3.connect(self.path, isolation_level=None)
         self.db.execute("PRAGMA journal_mode=WAL")
@@ -88,9 +93,9 @@ class CampaignStore:
     def _check_foreign(self) -> None:
         """Refuse a file that is not an intact vlb-gym store, opening it read-only."""
         try:
-            with sqlite3.connect(f"file:{self.path}?mode=ro", uri=True) as probe:
+            with contextlib.closing(_connect_readonly(self.path)) as probe:
                 (app,) = probe.execute("PRAGMA application_id").fetchone()
-                columns = {table: [row[1] for row in probe.execute(
+                columns = {table: [(row[1], row[5]) for row in probe.execute(
                     f"PRAGMA table_info({table})")] for table in ("plan", "episodes")}
                 (check,) = probe.execute("PRAGMA quick_check(1)").fetchone() \
                     if app == self.application_id else ("ok",)
@@ -106,7 +111,10 @@ class CampaignStore:
     def _exclusive(self) -> int:
         """An exclusive lock on the store for this process (released when it ends, however):
         two campaigns writing one store would interleave their episodes."""
-        fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise StoreError(f"{self.path}: cannot write the store ({exc.strerror})") from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
@@ -166,9 +174,30 @@ class CampaignStore:
                         (result.index, self._encode(result)))
 
     def results(self) -> list[EpisodeResult]:
-        """The stored episodes, in index order."""
+        """The stored episodes, in index order, each checked against itself and the plan (its
+        index below N, its reset seed the one its index gives): StoreError naming the first
+        that is not."""
         rows = self._rows("SELECT idx, record FROM episodes ORDER BY idx")
-        return [self._decode(index, record) for index, record in rows]
+        plan = self.plan() if rows else None
+        if rows and plan is None:
+            raise StoreError(f"{self.path}: the store holds episodes but no plan: it is damaged")
+        results = [self._decode(index, record) for index, record in rows]
+        for result in results:
+            self._check_against(plan, result)
+        return results
+
+    def _check_against(self, plan: dict[str, Any], result: EpisodeResult) -> None:
+        """StoreError unless episode ``result`` belongs to the campaign of ``plan``."""
+        from .campaign import episode_seed
+
+        if result.index >= plan["episodes"]:
+            raise StoreError(f"{self.path}: stored episode {result.index} is beyond the "
+                             f"campaign's {plan['episodes']} episodes: the store was edited or "
+                             "damaged")
+        if result.seed != episode_seed(plan["seed"], result.index):
+            raise StoreError(f"{self.path}: stored episode {result.index} was reset with seed "
+                             f"{result.seed}, not the one its index gives: the store was "
+                             "edited or damaged")
 
     def result(self, index: int) -> EpisodeResult | None:
         """Stored episode ``index``, if it is stored."""
@@ -214,7 +243,20 @@ def _episode_record(result: EpisodeResult) -> dict[str, Any]:
     return record
 
 
-_COLUMNS = {"plan": ["id", "plan"], "episodes": ["idx", "record"]}
+_COLUMNS = {"plan": [("id", 1), ("plan", 0)], "episodes": [("idx", 1), ("record", 0)]}
+"""Each table's columns, with whether each is the primary key (a table rebuilt without its key
+could hold an episode twice)."""
+
+
+def _connect_readonly(path: Path) -> sqlite3.Connection:
+    """A read-only connection to ``path`` that never writes beside it: the path percent-encoded
+    (``#``, ``?`` and ``%`` are file name characters, not URI syntax), and, when no writer's
+    log is there, opened immutable (SQLite would otherwise make ``-shm``/``-wal`` files, and
+    fail in a read-only directory)."""
+    uri = "file:" + urllib.parse.quote(str(path.absolute()))
+    live = Path(f"{path}-wal").exists()
+    return sqlite3.connect(uri + ("?mode=ro" if live else "?mode=ro&immutable=1"), uri=True,
+                           isolation_level=None)
 _STRICT = ConfigDict(strict=True, extra="forbid")
 Probability = Annotated[float, Field(gt=0, lt=1)]
 Count = Annotated[int, Field(ge=0)]
@@ -240,6 +282,29 @@ class StoredSubject(BaseModel):
     policy_content: dict[str, Any]
     sampling_distribution: str
     versions: dict[str, str]
+
+    @model_validator(mode="after")
+    def _documents(self) -> StoredSubject:
+        return _behaviors_valid(self)
+
+
+def _behaviors_valid(subject: StoredSubject) -> StoredSubject:
+    """A behavior's plan records its documents, by source: each must be a behavior file."""
+    if subject.policy.kind != "behavior":
+        return subject
+    from vlb_gym.core.spec import spec_from_data
+
+    behaviors = subject.policy_content.get("behaviors")
+    if not isinstance(behaviors, dict) or not behaviors \
+            or set(subject.policy_content) != {"behaviors"}:
+        raise ValueError("policy_content: a behavior's plan records {'behaviors': {source: "
+                         "document}}")
+    for source, document in behaviors.items():
+        try:
+            spec_from_data(document, f"policy_content.behaviors[{source!r}]")
+        except ValueError as exc:  # its first problem, in one line
+            raise ValueError(str(exc).splitlines()[0]) from None
+    return subject
 
 
 class StoredPlan(StoredSubject):
@@ -285,6 +350,23 @@ class StoredEpisode(BaseModel):
     steps: list[tuple[str, str | None, Any, bool, str | None, str | None]]
     start: dict[str, Any]
     error: str | None
+
+    @model_validator(mode="after")
+    def _consistent(self) -> StoredEpisode:
+        """A record that agrees with itself, as rho_B is defined: a success finished with no
+        failed certificate and no reason; a failure says why."""
+        failed_steps = sum(not step[3] for step in self.steps)
+        if self.rho == 1 and (not self.finished or self.failed_certificates or failed_steps
+                              or self.reason is not None or self.error is not None):
+            raise ValueError("rho is +1 but the episode did not finish, or has a failed "
+                             "certificate, a failure reason or an error")
+        if self.rho == -1 and self.reason is None:
+            raise ValueError("rho is -1 but no failure reason is recorded")
+        if self.failed_certificates > self.primitives or len(self.steps) > self.primitives:
+            raise ValueError("more failed certificates or steps than primitives")
+        if failed_steps > self.failed_certificates:
+            raise ValueError("more failed steps than failed certificates")
+        return self
 
 
 def _first_error(exc: ValidationError) -> str:
@@ -337,6 +419,10 @@ class ComparisonStore(CampaignStore):
     def _validate_plan(text: str) -> dict[str, Any]:
         return StoredComparisonPlan.model_validate_json(text).model_dump()
 
+    def _check_against(self, plan: dict[str, Any], result: Any) -> None:
+        for side in (result.a, result.b):
+            super()._check_against({"episodes": plan["pairs"], "seed": plan["seed"]}, side)
+
     def _decode(self, index: Any, text: Any) -> Any:
         from .comparison import PairResult
 
@@ -362,8 +448,7 @@ def open_readonly(path: str | Path) -> CampaignStore:
     kind: type[CampaignStore] = CampaignStore
     with contextlib.suppress(sqlite3.DatabaseError, OSError):
         if Path(path).is_file():
-            with contextlib.closing(sqlite3.connect(f"file:{Path(path).absolute()}?mode=ro",
-                                                    uri=True)) as probe:
+            with contextlib.closing(_connect_readonly(Path(path))) as probe:
                 (app,) = probe.execute("PRAGMA application_id").fetchone()
             kind = next((k for k in _KINDS if k.application_id == app), CampaignStore)
     return kind(path, readonly=True)
