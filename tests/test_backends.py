@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import itertools
 import gc
 import os
 import subprocess
@@ -294,3 +295,45 @@ def test_ray_missing_says_what_to_install(monkeypatch):
 
 def test_backends_listed():
     assert BACKENDS == ("serial", "process", "ray")
+
+
+@pytest.mark.parametrize("backend, workers", [("serial", 1), ("process", 2)])
+def test_indices_are_taken_as_they_run_not_listed(backend, workers):
+    """A campaign of 10^15 episodes starts at once: its indices are cut into chunks as workers
+    take them (listing them would need petabytes)."""
+    stream = run_indices(tasks.squares, range(10 ** 15), backend=backend,
+                         workers=workers)
+    first = [next(stream) for _ in range(5)]
+    stream.close()
+    assert all(i * i == square for i, square in first)
+
+
+def test_chunks_are_cut_lazily_and_shrink_towards_the_end():
+    from vlb_gym.verify.backends import ChunkQueue, chunks
+
+    queue = ChunkQueue(range(10 ** 18), 10 ** 18, 2)
+    assert queue.popleft() == list(range(64)) and queue[0] == list(range(64, 128))
+    queue.appendleft([7])
+    assert queue.popleft() == [7] and queue.popleft()[0] == 64
+    cut = chunks(list(range(1000)), 2)
+    assert [i for chunk in cut for i in chunk] == list(range(1000))
+    assert len(cut[0]) == 31 and len(cut[-1]) == 1  # 1000 // 32, down to one at the end
+
+
+def test_a_campaign_keeps_no_list_of_its_indices():
+    from vlb_gym.verify.campaign import Campaign, CampaignConfig, Remaining
+
+    assert len(Remaining(10 ** 15, frozenset({0, 3}))) == 10 ** 15 - 2
+    assert list(itertools.islice(Remaining(10 ** 15, frozenset({0, 3})), 4)) == [1, 2, 4, 5]
+    seen = []
+
+    def stop_after_three(result):
+        seen.append(result)
+        if len(seen) == 3:
+            raise KeyboardInterrupt
+
+    with Campaign(CampaignConfig("VLB-GridExplore-v0", "explore_until_goal", 10 ** 15,
+                                 method="sequential")) as campaign:
+        with pytest.raises(KeyboardInterrupt):
+            campaign.run(on_episode=stop_after_three)
+    assert [r.index for r in seen] == [0, 1, 2]

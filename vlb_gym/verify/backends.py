@@ -15,6 +15,7 @@ from __future__ import annotations
 import collections
 import contextlib
 import gc
+import itertools
 import multiprocessing as mp
 import multiprocessing.connection
 import os
@@ -23,7 +24,7 @@ import signal
 import sys
 import tempfile
 import traceback
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence, Sized
 from typing import Any, TypeVar
 
 T = TypeVar("T")
@@ -53,17 +54,53 @@ def chunk_size(count: int, workers: int) -> int:
     return max(1, min(64, count // (workers * 16)))
 
 
-def chunks(indices: list[int], workers: int) -> collections.deque[list[int]]:
-    """``indices`` cut into tasks of :func:`chunk_size`, shrinking towards the end (at most an
-    eighth of what is left per worker, down to one index) so that workers finish together."""
-    size = chunk_size(len(indices), workers)
-    out: collections.deque[list[int]] = collections.deque()
-    start = 0
-    while start < len(indices):
-        left = len(indices) - start
-        step = max(1, min(size, -(-left // (4 * workers))))
-        out.append(indices[start:start + step])
-        start += step
+class ChunkQueue:
+    """The tasks of a run: ``count`` indices from ``indices`` cut into chunks of
+    :func:`chunk_size` as they are taken, shrinking towards the end (at most an eighth of what
+    is left per worker, down to one index) so that workers finish together; chunks given back
+    (a dead worker's) come first. Cut lazily, so memory does not grow with the count."""
+
+    def __init__(self, indices: Iterable[int], count: int, workers: int):
+        self._source = iter(indices)
+        self._left, self._workers = count, workers
+        self._size = chunk_size(count, workers)
+        self._back: collections.deque[list[int]] = collections.deque()
+
+    def __bool__(self) -> bool:
+        return bool(self._back) or self._left > 0
+
+    def __getitem__(self, position: int) -> list[int]:
+        """The next chunk (``position`` 0), left in the queue."""
+        if position != 0:
+            raise IndexError("only the next chunk can be seen")
+        if not self._back:
+            self._back.append(self._cut())
+        return self._back[0]
+
+    def popleft(self) -> list[int]:
+        return self._back.popleft() if self._back else self._cut()
+
+    def appendleft(self, chunk: list[int]) -> None:
+        self._back.appendleft(chunk)
+
+    def extendleft(self, chunks: Iterable[list[int]]) -> None:
+        self._back.extendleft(chunks)
+
+    def _cut(self) -> list[int]:
+        if self._left <= 0:
+            raise IndexError("no chunk left")
+        step = max(1, min(self._size, -(-self._left // (4 * self._workers))))
+        chunk = list(itertools.islice(self._source, step))
+        self._left = self._left - len(chunk) if len(chunk) == step else 0
+        return chunk
+
+
+def chunks(indices: Sequence[int], workers: int) -> list[list[int]]:
+    """Every chunk :class:`ChunkQueue` cuts ``indices`` into, in order."""
+    queue = ChunkQueue(indices, len(indices), workers)
+    out = []
+    while queue:
+        out.append(queue.popleft())
     return out
 
 
@@ -155,7 +192,8 @@ def run_indices(setup: Callable[[], Callable[[int], T]], indices: Sequence[int],
     if not isinstance(max_deaths, int) or max_deaths < 1:
         raise ValueError(f"max_deaths must be a positive integer (got {max_deaths!r})")
     check_main_guard()
-    indices = list(indices)
+    if not isinstance(indices, Sized):  # a generator: listed once
+        indices = list(indices)
     if backend == "serial":
         return _serial(setup, indices)
     if backend == "process":
@@ -165,7 +203,7 @@ def run_indices(setup: Callable[[], Callable[[int], T]], indices: Sequence[int],
     return run_on_ray(setup, indices, workers, ray_address, max_deaths)
 
 
-def _serial(setup: Callable[[], Callable[[int], T]], indices: list[int]) -> Iterator[T]:
+def _serial(setup: Callable[[], Callable[[int], T]], indices: Iterable[int]) -> Iterator[T]:
     runner = setup()
     for i in indices:
         yield runner(i)
@@ -267,12 +305,12 @@ class _Worker:
         self.process.close()
 
 
-def _process(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: int,
+def _process(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], workers: int,
              preload: tuple[str, ...], max_deaths: int) -> Iterator[T]:
     context = _context()
     if preload and context.get_start_method() == "forkserver":
         context.set_forkserver_preload(list(preload))
-    todo = chunks(indices, workers)
+    todo = ChunkQueue(indices, len(indices), workers)
     deaths: collections.Counter[int] = collections.Counter()
     idle_deaths = 0  # deaths in a row outside any run (during setup, or killed while idle)
     remaining = len(indices)
@@ -339,7 +377,7 @@ def _process(setup: Callable[[], Callable[[int], T]], indices: list[int], worker
             feed(start())
 
     try:
-        for _ in range(min(workers, len(todo))):
+        for _ in range(min(workers, remaining)):
             feed(start())
         while remaining:
             ready = mp.connection.wait([w.conn for w in pool] + [w.process.sentinel

@@ -20,7 +20,7 @@ import importlib
 import json
 import platform
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol, TypeVar
 
@@ -209,8 +209,7 @@ class Campaign:
         resumed = len(results)
         consumers = [f for f in (store.add if store is not None else None, on_episode) if f]
         if not method.decided:
-            done = {r.index for r in results}
-            todo = [i for i in range(self.config.episodes) if i not in done]
+            todo = Remaining(self.config.episodes, frozenset(r.index for r in results))
             results += self._feed(method, todo, workers, backend, ray_address, consumers)
         return Report.build(self.plan, results, time.perf_counter() - started, workers, backend,
                             None if store is None else str(store.path), len(results) - resumed)
@@ -220,7 +219,7 @@ class Campaign:
         a method that stops early saw its episodes in index order, so they are 0..k-1."""
         return stored_prefix(store, method_named(self.config.method))
 
-    def _feed(self, method: Method, todo: list[int], workers: int, backend: str,
+    def _feed(self, method: Method, todo: Remaining, workers: int, backend: str,
               ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]
               ) -> list[EpisodeResult]:
         def take(result: EpisodeResult) -> None:
@@ -229,10 +228,33 @@ class Campaign:
                 consume(result)
 
         return feed_until_decided(self.episodes(todo, workers, backend, ray_address), method,
-                                  todo, take)
+                                  todo, take, lightened)
 
 
 R = TypeVar("R", bound=Indexed)
+
+
+@dataclass(frozen=True)
+class Remaining:
+    """The indices ``0 .. total - 1`` not in ``done`` (a subset of them), in order, listed as
+    they are taken: a campaign's memory does not grow with its N."""
+
+    total: int
+    done: frozenset[int] = frozenset()
+
+    def __iter__(self) -> Iterator[int]:
+        return (i for i in range(self.total) if i not in self.done)
+
+    def __len__(self) -> int:
+        return self.total - len(self.done)
+
+
+def lightened(result: EpisodeResult) -> EpisodeResult:
+    """What a campaign keeps of a finished episode for its report: a success without its steps
+    and start (the store and the export have them), a failure whole."""
+    if not result.success:
+        return result
+    return dataclasses.replace(result, steps=(), start={})
 
 
 def run_where(setup: Callable[[], Callable[[int], R]],
@@ -250,19 +272,21 @@ def run_where(setup: Callable[[], Callable[[int], R]],
                                 preload=["vlb_gym.verify.campaign", *env_preload])
 
 
-def feed_until_decided(stream: Iterator[R], method: Decides, todo: Sequence[int],
-                       take: Callable[[R], None]) -> list[R]:
+def feed_until_decided(stream: Iterator[R], method: Decides, todo: Iterable[int],
+                       take: Callable[[R], None], keep: Callable[[R], R] = lambda r: r
+                       ) -> list[R]:
     """Hand the results of ``stream`` (of episodes ``todo``) to ``take`` until ``method`` has
-    decided: as they finish, or in index order (``todo``'s) if it may stop early; the
-    results taken. Closes the stream (stopping the workers) when the method decided early."""
+    decided: as they finish, or in index order (``todo``'s) if it may stop early; what
+    ``keep`` keeps of the results taken. Closes the stream (stopping the workers) when the
+    method decided early."""
     used: list[R] = []
     waiting: dict[int, R] = {}
     order = iter(todo)
     following = next(order, None)
 
     def use(result: R) -> None:
-        used.append(result)
         take(result)
+        used.append(keep(result))
 
     try:
         for result in stream:

@@ -21,8 +21,8 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .campaign import (Campaign, CampaignConfig, episode_runner, feed_until_decided, preload,
-                       run_where, stored_prefix, _in_process)
+from .campaign import (Campaign, CampaignConfig, Remaining, _in_process, episode_runner,
+                       feed_until_decided, lightened, preload, run_where, stored_prefix)
 from .episode import EpisodeResult
 from .paired import (DEFAULT_MAX_PAIRS, FixedPairs, PairedMethod, claim_words,
                      paired_method_named)
@@ -179,14 +179,17 @@ class Comparison:
                 consume(pair)
 
         if not method.decided:
-            done = {r.index for r in results}
-            todo = [i for i in range(self.config.pairs) if i not in done]
+            todo = Remaining(self.config.pairs, frozenset(r.index for r in results))
             results += feed_until_decided(self.pairs(todo, workers, backend, ray_address),
-                                          method, todo, take)
+                                          method, todo, take, _lightened)
         return ComparisonReport.build(self.plan, results, time.perf_counter() - started,
                                       workers, backend,
                                       None if store is None else str(store.path),
                                       len(results) - resumed)
+
+
+def _lightened(pair: PairResult) -> PairResult:
+    return PairResult(pair.index, lightened(pair.a), lightened(pair.b))
 
 
 def _side_summary(plan: Mapping[str, Any], episodes: list[EpisodeResult]) -> dict[str, Any]:

@@ -9,10 +9,11 @@ import contextlib
 import logging
 import signal
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TypeVar
 
-from .backends import IN_FLIGHT, RemoteTraceback, chunks, freeze_setup, gc_paused, one_core_each
+from .backends import (IN_FLIGHT, ChunkQueue, RemoteTraceback, freeze_setup, gc_paused,
+                       one_core_each)
 
 T = TypeVar("T")
 
@@ -61,14 +62,14 @@ def _sigint_held() -> Iterator[None]:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
-def run_on_ray(setup: Callable[[], Callable[[int], T]], indices: list[int], workers: int,
+def run_on_ray(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], workers: int,
          address: str | None, max_deaths: int) -> Iterator[T]:
     ray = _import_ray()
     from ray.exceptions import (GetTimeoutError, RayActorError, RayTaskError,
                                 WorkerCrashedError)
 
     started = False
-    todo = chunks(indices, workers)
+    todo = ChunkQueue(indices, len(indices), workers)
     deaths: collections.Counter[int] = collections.Counter()
     actors: dict[Any, collections.deque] = {}  # actor -> its (ref, chunk)s, oldest first
     owner: dict[Any, Any] = {}  # ref -> actor
@@ -139,7 +140,7 @@ def run_on_ray(setup: Callable[[], Callable[[int], T]], indices: list[int], work
                 started = True
         actor_class = ray.remote(num_cpus=1, max_restarts=0, max_task_retries=0)(_RayRunner)
         setup_ref = ray.put(setup)
-        for _ in range(min(workers, len(todo))):
+        for _ in range(min(workers, remaining)):
             start()
         while remaining:
             done, _ = ray.wait(list(owner), num_returns=1)
