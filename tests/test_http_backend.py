@@ -190,6 +190,16 @@ def test_the_api_key_never_shows_in_errors_or_the_name(monkeypatch):
     assert "sk-secret" not in str(err.value) and "sk-secret" not in chat.name
 
 
+def test_a_reply_that_echoes_the_api_key_is_returned_without_it(monkeypatch):
+    """A server that echoes the Authorization header into its reply: the key would be saved in
+    the behavior and the transcript."""
+    monkeypatch.setenv("TEST_KEY", "sk-secret")
+    with ChatServer([("reply", '{"name": "x", "note": "Bearer sk-secret"}')]) as server:
+        chat = backend(server, api_key_env="TEST_KEY")
+        reply = chat.complete(MESSAGES)
+    assert "sk-secret" not in reply and "Bearer [API key]" in reply
+
+
 @pytest.mark.parametrize("url, problem", [
     ("http://user:sk-secret@127.0.0.1:8000/v1", "must not carry credentials"),
     ("ftp://127.0.0.1/v1", "must start with http:// or https://"),

@@ -249,20 +249,22 @@ class OpenAICompatibleBackend:
             if attempt:
                 time.sleep(self.backoff * 2 ** (attempt - 1) * (1 + random.random() / 4))
             try:
-                return self._attempt(url, body, dialect)
+                return self._redacted(self._attempt(url, body, dialect))
             except _Failure as failure:
                 problems.append(failure)
                 if not failure.retry:
                     break
         last = problems[-1]
-        problem, body = last.problem, last.body
-        if self.api_key:
-            problem, body = (problem.replace(self.api_key, "[API key]"),
-                             body.replace(self.api_key, "[API key]"))
+        problem, body = self._redacted(last.problem), self._redacted(last.body)
         if len(problems) == 1:
             raise BackendError(f"{url}: {problem}", last.status, body)
         raise BackendError(f"{url}: no reply after {len(problems)} attempt(s); last: "
                            f"{problem}", last.status, body)
+
+    def _redacted(self, text: str) -> str:
+        """``text`` without the API key (a server may echo the request's headers): nothing
+        the backend returns, raises or records holds it."""
+        return text.replace(self.api_key, "[API key]") if self.api_key else text
 
     def _attempt(self, url: str, body: bytes, dialect: str) -> str:
         """One request; raises :class:`_Failure` saying what went wrong and if a retry may help."""
