@@ -96,7 +96,7 @@ def main() -> None:
             n, saved = "-", "- (no effect to detect)"
         print(f"| {name} | {shown:.3f} | {(decisions == -1).mean():.3f} | {stops.mean():.1f} "
               f"| {np.median(stops):.0f} | {n} | {saved} |")
-    print(f"\npower 0.90: the sequential test capped where it shows the claim with probability "
+    print("\npower 0.90: the sequential test capped where it shows the claim with probability "
           ">= 0.90, against the fixed-N McNemar plan of power 0.90")
     print("| scenario | cap | shown | mean pairs | fixed N, power 0.90 | pairs saved |")
     print("|---|---|---|---|---|---|")

