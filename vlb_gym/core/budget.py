@@ -21,6 +21,8 @@ MAX_WORK = 1_000_000  # work units per top-level evaluation
 MAX_CALLS = 10_000  # calls of behavior functions per top-level evaluation
 MAX_INT_RESULT = 2**63  # magnitude bound of computed integers
 MAX_ROUND_DIGITS = 20
+MAX_STEP_WORK = 5 * MAX_WORK  # work units of every evaluation choosing one action together
+MAX_EPISODE_WORK = 100 * MAX_WORK  # ... of one episode (a dry run is one short episode)
 
 
 class EvaluationLimitError(ValueError):
@@ -62,15 +64,42 @@ class Budget:
     Its methods are what checked code calls (under private ``__`` names) and the bounded builtins.
     """
 
-    __slots__ = ("work", "calls", "memo")
+    __slots__ = ("work", "calls", "memo", "step", "episode")
 
     def __init__(self) -> None:
+        self.step = self.episode = 0  # work of the step and of the episode so far
+        self.work = MAX_WORK
         self.reset()
 
+    def new_episode(self) -> None:
+        """An episode begins: its account (and its first step's) starts from zero."""
+        self.work, self.step, self.episode = MAX_WORK, 0, 0
+
+    def new_step(self) -> None:
+        """A step (one action chosen) begins: its account starts from zero."""
+        self._settle()
+        self.step = 0
+
     def reset(self) -> None:
+        """A top-level evaluation begins: the last one's work goes on the step's and the
+        episode's accounts, which raise once they are spent (at most one evaluation's work
+        beyond them, as each evaluation is bounded by its own budget)."""
+        self._settle()
         self.work = MAX_WORK
         self.calls = MAX_CALLS
         self.memo: dict[Callable[[], Any], Any] = {}
+
+    def _settle(self) -> None:
+        used = MAX_WORK - max(self.work, -1)
+        self.work = MAX_WORK
+        self.step += used
+        self.episode += used
+        if self.step > MAX_STEP_WORK:
+            raise EvaluationLimitError(f"the evaluations of one step exceeded their budget of "
+                                       f"{MAX_STEP_WORK} work units")
+        if self.episode > MAX_EPISODE_WORK:
+            raise EvaluationLimitError(f"the evaluations of one episode exceeded their budget "
+                                       f"of {MAX_EPISODE_WORK} work units")
 
     def once(self, fn: Callable[[], Any]) -> Callable[[], Any]:
         """A behavior function of no arguments, computed at most once per top-level evaluation

@@ -74,6 +74,7 @@ class BehaviorPolicy:
         """Forget the position in the graph and the variables; the next predict starts anew
         (a graph draws no random numbers: ``seed`` is unused)."""
         self._stack: list[_Frame] = []
+        self._budget.new_episode()
         self._started = False
         self.finished = False
         self.trace: list[tuple[str, str]] = []  # (behavior, node) of every primitive chosen
@@ -93,6 +94,7 @@ class BehaviorPolicy:
         if self.finished:
             return None, None
         self._helpers.bind(observation)
+        self._budget.new_step()
         if not self._started:
             self._started = True
             action = self._enter_behavior(self.behavior)
