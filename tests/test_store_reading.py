@@ -151,3 +151,54 @@ def test_a_malformed_policy_content_is_refused(content, failing_store, tmp_path,
     db.close()
     assert main(["report", str(failing_store), "--out", str(tmp_path / "out")]) == 2
     one_line_error(capsys, "the stored plan is not valid", "policy_content")
+
+
+@pytest.mark.timeout(120)
+def test_a_replay_is_as_long_as_the_record_whatever_step_bound_the_store_names(tmp_path,
+                                                                                capsys):
+    from .conftest import explore_doc
+
+    doc = explore_doc()
+    doc["edges"][0]["guard"] = "True"  # sense -> go -> sense ... never finishes
+    doc["terminals"] = ["go"]
+    looping = tmp_path / "loop.json"
+    looping.write_text(json.dumps(doc))
+    store = tmp_path / "c.db"
+    assert main(["verify", GRID, "--behavior", str(looping), "--episodes", "2", "--epsilon",
+                 "0.1", "--env-kwarg", "max_episode_steps=40", "--quiet", "--store",
+                 str(store)]) == 0
+    with sqlite3.connect(store) as db:  # the store's step bound, edited: never truncated
+        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
+        plan["env_kwargs"]["max_episode_steps"] = 10 ** 18
+        db.execute("UPDATE plan SET plan = ?", (json.dumps(plan),))
+    db.close()
+    capsys.readouterr()
+    main(["replay", str(store), "--episode", "0"])
+    out = capsys.readouterr().out
+    assert "primitives=40" in out  # the record's 40 steps, then stopped
+    assert main(["report", str(store), "--out", str(tmp_path / "out")]) == 0
+
+
+@pytest.mark.parametrize("option, name, size, message", [
+    ("--episodes-out", "e.jsonl", 20_000, "e.jsonl: cannot write it (File too large); the lines "
+                                          "written so far are kept"),
+    ("--store", "c.db", 20_000, "c.db: cannot write the store (disk I/O error)"),
+    ("--store", "c.db", 200_000, "c.db: cannot store episode"),
+    ("--report", "r.json", 512, "r.json: cannot write it (File too large)"),
+])
+def test_a_full_disk_is_one_line_naming_the_file(option, name, size, message, tmp_path):
+    """A file size limit (``ulimit -f``) stands for a full disk."""
+    import resource
+    import subprocess
+    import sys
+
+    def limited():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (size, size))
+
+    proc = subprocess.run(
+        [sys.executable, "-m", "vlb_gym.cli", "verify", GRID, "--behavior",
+         "explore_until_goal", "--episodes", "3000", "--epsilon", "0.05", "--quiet", option,
+         str(tmp_path / name)], capture_output=True, text=True, preexec_fn=limited, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr, proc.stderr
+    assert message in proc.stderr

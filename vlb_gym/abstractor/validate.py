@@ -60,7 +60,8 @@ def validate_reply(reply: str, env: gym.Env, library: BehaviorLibrary, name: str
         spec = spec.model_copy(update={"name": name})
     elif spec.name in library:
         raise BehaviorSpecError(f"{source}: name: {spec.name!r} is already in the behavior "
-                                "library; choose a new name", "references")
+                                "library; choose a new name (vlb synthesize --name NEW saves "
+                                "the reply under another)", "references")
     compiled = compile_spec(spec, env, source, None, library, names_only=True)
     dry_run(compiled, env)
     return compiled

@@ -69,7 +69,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     from vlb_gym.reports.gif import write_gif
     from vlb_gym.verify.campaign import build
     from vlb_gym.verify.policies import policy_loader
-    from vlb_gym.verify.replay import changed_since, filmed, store_files
+    from vlb_gym.verify.replay import MAX_REPLAY_PRIMITIVES, changed_since, filmed, store_files
 
     config, seed, stored = _replay_config(args)
     if args.render:
@@ -94,7 +94,11 @@ def cmd_replay(args: argparse.Namespace) -> int:
             raise UsageError(f"{config.policy.ref} changed since the campaign (content sha256 "
                              f"{now[:12]}..., the store's {digest[:12]}...): the episode cannot "
                              "be replayed")
-    result, frames = filmed(env, policy, config, seed, args.episode or 0, bool(args.render))
+    limit = None
+    if stored is not None:  # as long as the record, whatever step bound the store names
+        limit = MAX_REPLAY_PRIMITIVES if args.keep_going else len(stored[0].steps)
+    result, frames = filmed(env, policy, config, seed, args.episode or 0, bool(args.render),
+                            limit)
     for number, step in enumerate(result.steps, 1):
         _print_step(number, step)
     print(f"rho_B = {result.rho:+d}, finished={result.finished}, primitives={result.primitives}"

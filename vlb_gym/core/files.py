@@ -98,6 +98,14 @@ def read_json_file(path: str | os.PathLike[str], what: str, kind: type = dict) -
     return data
 
 
+class OutputFileError(OSError):
+    """An output file could not be written (a full disk, a file size limit): the message names
+    it."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
 def write_atomic(path: str | os.PathLike[str], content: str | bytes) -> None:
     """Write ``content`` (text or bytes) to ``path`` so that readers see the old file or the whole
     new one; on any failure the temporary file is removed and the old file stays as it was. The
@@ -114,6 +122,10 @@ def write_atomic(path: str | os.PathLike[str], content: str | bytes) -> None:
         with os.fdopen(fd, "wb" if isinstance(content, bytes) else "w") as handle:
             handle.write(content)
         os.replace(tmp, path)
+    except OSError as exc:
+        Path(tmp).unlink(missing_ok=True)
+        raise OutputFileError(f"{path}: cannot write it ({exc.strerror or exc}); it was left as "
+                              "it was") from None
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise

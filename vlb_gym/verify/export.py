@@ -12,6 +12,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from vlb_gym.core.files import OutputFileError
+
 from .episode import EpisodeResult
 
 
@@ -26,20 +28,31 @@ class EpisodesExport:
         self._line({"record": "plan", "plan": plan})
 
     def _line(self, data: dict[str, Any]) -> None:
-        self._file.write(json.dumps(data, separators=(",", ":")) + "\n")
-        self._file.flush()
+        try:
+            self._file.write(json.dumps(data, separators=(",", ":")) + "\n")
+            self._file.flush()
+        except OSError as exc:
+            raise OutputFileError(f"{self.path}: cannot write it ({exc.strerror or exc}); the "
+                                  "lines written so far are kept") from None
 
     def add(self, result: EpisodeResult) -> None:
         self._line({"record": "episode", **result.to_dict()})
         self.written += 1
 
     def close(self, complete: bool) -> None:
-        """Write the closing line and close the file."""
-        if not complete:  # counted in the file: Ctrl-C may fall between a write and the count
-            self._file.flush()
-            self.written = self.path.read_bytes().count(b'\n{"record":"episode"')
-        self._line({"record": "end", "complete": complete, "episodes": self.written})
-        self._file.close()
+        """Write the closing line (if the file can still be written) and close the file."""
+        try:
+            if not complete:  # counted in the file: Ctrl-C may fall between a write and the count
+                self._file.flush()
+                self.written = self.path.read_bytes().count(b'\n{"record":"episode"')
+            self._line({"record": "end", "complete": complete, "episodes": self.written})
+        except OSError:  # already said by the write that failed
+            pass
+        finally:
+            try:
+                self._file.close()
+            except OSError:
+                pass
 
 
 def read_export(path: Path) -> tuple[dict[str, Any], list[EpisodeResult], dict[str, Any] | None]:

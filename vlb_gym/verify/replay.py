@@ -44,15 +44,24 @@ def changed_since(config: CampaignConfig, policy: Any, digest: str) -> str | Non
     return now if now != digest else None
 
 
+MAX_REPLAY_PRIMITIVES = 10_000
+"""A replay of a stored episode past its record (``--keep-going``) stops here: the store's step
+bound is data from elsewhere."""
+
+
 def filmed(env: Any, policy: Any, config: CampaignConfig, seed: int, index: int = 0,
-           film: bool = True) -> tuple[EpisodeResult, list[np.ndarray]]:
+           film: bool = True, max_primitives: int | None = None
+           ) -> tuple[EpisodeResult, list[np.ndarray]]:
     """Episode ``index`` (reset seed ``seed``) of ``policy`` on ``env`` (built with
-    ``render_mode="rgb_array"`` to film it) and its frames (none unless ``film``)."""
+    ``render_mode="rgb_array"`` to film it) and its frames (none unless ``film``), at most
+    ``max_primitives`` primitives long (a stored episode's replay: as many as its record
+    holds, whatever step bound the store names)."""
     frames: list[np.ndarray] = []
     if film:
         env.unwrapped.film(frames.append)
     try:
-        return run_episode(env, policy, seed, index, config.stop_on_failure), frames
+        return run_episode(env, policy, seed, index, config.stop_on_failure,
+                           max_primitives=max_primitives), frames
     finally:
         env.unwrapped.film(None)
 
@@ -74,8 +83,9 @@ def episode_frames(plan: dict[str, Any], episodes: Sequence[EpisodeResult]
         for label, success in (("failed", False), ("successful", True)):
             record = next((e for e in episodes if e.success == success), None)
             if record is not None:
-                frames[f"{label} episode {record.index}"] = \
-                    filmed(env, policy, config, record.seed, record.index)[1]
+                frames[f"{label} episode {record.index}"] = filmed(
+                    env, policy, config, record.seed, record.index,
+                    max_primitives=len(record.steps))[1]
         return frames, None
     finally:
         env.close()

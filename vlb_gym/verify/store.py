@@ -76,6 +76,13 @@ class CampaignStore:
         except OSError as exc:
             raise StoreError(f"{self.path}: cannot make its directory ({exc.strerror})") from None
         self._lock = self._exclusive()
+        try:
+            self._create(fresh)
+        except sqlite3.DatabaseError as exc:  # a full disk, a file size limit, ...
+            self.close()
+            raise StoreError(f"{self.path}: cannot write the store ({exc})") from None
+
+    def _create(self, fresh: bool) -> None:
         self.db = sqlite3.connect(self.path, isolation_level=None)
         self.db.execute("PRAGMA journal_mode=WAL")
         # NORMAL: a commit is in the WAL before add() returns, safe from the process being
@@ -123,9 +130,11 @@ class CampaignStore:
         return fd
 
     def close(self) -> None:
-        self.db.close()
+        if getattr(self, "db", None) is not None:
+            self.db.close()
         if self._lock is not None:
             os.close(self._lock)
+            self._lock = None
 
     def _rows(self, query: str, *args: Any) -> list[tuple[Any, ...]]:
         try:
@@ -155,7 +164,10 @@ class CampaignStore:
             if self._rows("SELECT idx FROM episodes LIMIT 1"):
                 raise StoreError(f"{self.path}: the store holds episodes but no plan: it is "
                                  "damaged, and no campaign can continue it")
-            self.db.execute("INSERT INTO plan (id, plan) VALUES (1, ?)", (json.dumps(plan),))
+            try:
+                self.db.execute("INSERT INTO plan (id, plan) VALUES (1, ?)", (json.dumps(plan),))
+            except sqlite3.DatabaseError as exc:
+                raise StoreError(f"{self.path}: cannot write the plan ({exc})") from None
             return
         differ = sorted(k for k in stored.keys() | plan.keys() if stored.get(k) != plan.get(k))
         if differ:
@@ -170,8 +182,13 @@ class CampaignStore:
 
     def add(self, result: EpisodeResult) -> None:
         """Store one finished episode (its own transaction: durable once this returns)."""
-        self.db.execute("INSERT INTO episodes (idx, record) VALUES (?, ?)",
-                        (result.index, self._encode(result)))
+        try:
+            self.db.execute("INSERT INTO episodes (idx, record) VALUES (?, ?)",
+                            (result.index, self._encode(result)))
+        except sqlite3.DatabaseError as exc:  # a full disk, a file size limit, ...
+            raise StoreError(f"{self.path}: cannot store episode {result.index} ({exc}); "
+                             "every episode stored before is kept: make room and run the same "
+                             "command to resume") from None
 
     def results(self) -> list[EpisodeResult]:
         """The stored episodes, in index order, each checked against itself and the plan (its
