@@ -46,8 +46,8 @@ from vlb_gym.verify.policies import PolicyRef
 
 from .configs import (ACTING, DEFAULT_AGENTS, DEFAULT_TASKS, SYNTHESES, TASKS, AgentSpec,
                       TaskConfig)
-from .stats import (CERTIFY_PROBABILITY, MIN_SEEDS_FOR_INTERVAL, aggregate, describe,
-                    episodes_to_certify)
+from .stats import (BOOTSTRAP_COVERAGE_10, CERTIFY_PROBABILITY, MIN_SEEDS_FOR_INTERVAL,
+                    aggregate, describe, episodes_to_certify)
 
 EPSILON = 0.05
 DELTA = 0.05
@@ -353,10 +353,12 @@ def markdown(rows: list[Row], episodes: int, seed: int) -> str:
              "true one (its own uncertainty, from the row's episodes, is not counted). "
              f"Machine: {platform.machine()}, Python "
              f"{platform.python_version()}.", "",
-             "Across training seeds (the success rate's IQM with a 95% percentile-bootstrap "
-             f"interval from {MIN_SEEDS_FOR_INTERVAL} seeds on; with fewer, its mean and every "
-             "seed's value, since a bootstrap of a few runs covers far less than 95%; episodes to "
-             "certify: the median seed's):", "",
+             "Across training seeds (the success rate's IQM with a nominal 95% "
+             f"percentile-bootstrap interval from {MIN_SEEDS_FOR_INTERVAL} seeds on, which "
+             f"covered the true IQM {BOOTSTRAP_COVERAGE_10:.0%} of the time with 10 seeds in "
+             "simulation; with fewer, its mean and every seed's value, since a bootstrap of a "
+             "few runs covers far less; rates rounded down; episodes to certify: the median "
+             "seed's):", "",
              "| task | contestant | kind | training steps | seeds | success rate | "
              "best seed | episodes to certify | env steps/s |",
              "| --- | --- | --- | ---: | ---: | --- | ---: | ---: | ---: |"]
