@@ -524,7 +524,8 @@ def test_nothing_printed_can_drive_the_terminal():
 
     hostile = "a\x1b]52;c;ZXZpbA==\x07b\x1b[2J\u202ec\x9b\x00d\te\nf\rg"
     shown = neutral(hostile)
-    assert shown == "a\\x1b]52;c;ZXZpbA==\\x07b\\x1b[2J\\u202ec\\x9b\\x00d\te\nf\rg"
+    assert shown == "a\\x1b]52;c;ZXZpbA==\\x07b\\x1b[2J\\u202ec\\x9b\\x00d\te\nf\\rg"
+    assert neutral("\r 40%|####") == "\r 40%|####"  # a progress bar redraws its line
 
 
 @settings(max_examples=200, deadline=None)
@@ -534,7 +535,9 @@ def test_neutral_text_has_no_control_or_format_character(text):
 
     from vlb_gym.cli.terminal import neutral
 
-    for char in neutral(text):
+    shown = neutral(text)
+    assert "\r" not in shown[1:]
+    for char in shown:
         assert char in "\t\n\r" or unicodedata.category(char) not in ("Cc",) and \
             char not in "\u200b\u200c\u200d\u200e\u200f\u202a\u202b\u202c\u202d\u202e" \
             "\u2066\u2067\u2068\u2069\ufeff"

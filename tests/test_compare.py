@@ -4,6 +4,7 @@ rates under continuous monitoring, the pairing, the store, and the command line.
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 import json
 import math
 
@@ -283,3 +284,106 @@ def test_a_behavior_against_a_trained_agent(tmp_path, capsys):
     assert report["b"]["env_kwargs"] == {"max_episode_steps": 200}  # the agent's training env
     assert report["decision"] in ("not shown", "refuted")
     assert report["counts"]["a_only"] == 30 - report["b"]["successes"]
+
+
+# ------------------------------------------------------------------------------- review round
+
+
+@pytest.mark.parametrize("margin", [0.0, 0.1])
+def test_mirrored_pairs_give_mirrored_verdicts(margin):
+    for n, a_only, b_only in [(5, 0, 4), (8, 1, 6), (13, 0, 5), (20, 5, 13), (20, 0, 6)]:
+        counts = PairCounts(n - a_only - b_only, a_only, b_only, 0)
+        mirror = PairCounts(n - a_only - b_only, b_only, a_only, 0)
+        one, other = (paired.FixedPairs(margin, 0.05, n) for _ in range(2))
+        for method, c in ((one, counts), (other, mirror)):
+            method.feed([(True, True)] * c.both + [(True, False)] * c.a_only
+                        + [(False, True)] * c.b_only)
+        if margin == 0:
+            assert (one.claim()["decision"] == "shown") == (other.claim()["decision"] == "refuted")
+
+
+def sequential_store(tmp_path):
+    store = tmp_path / "seq.db"
+    assert main(["compare", GRID, "explore_until_goal", "explore_until_goal", "--sequential",
+                 "--b-env-kwarg", "max_episode_steps=10", "--store", str(store),
+                 "--quiet"]) == 0
+    return store
+
+
+def test_a_report_refuses_a_sequential_store_that_resume_refuses(tmp_path, capsys):
+    import sqlite3
+
+    store = sequential_store(tmp_path)
+    with sqlite3.connect(store) as db:
+        db.execute("DELETE FROM episodes WHERE idx IN (1, 3)")
+    db.close()
+    capsys.readouterr()
+    assert main(["report", str(store)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "are not the first" in err
+
+
+def test_a_stored_level_too_small_for_floating_point_is_refused(tmp_path, capsys):
+    import sqlite3
+
+    store = sequential_store(tmp_path)
+    with sqlite3.connect(store) as db:
+        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
+        plan["alpha"] = 1e-300
+        db.execute("UPDATE plan SET plan = ?", (json.dumps(plan),))
+    db.close()
+    capsys.readouterr()
+    assert main(["report", str(store)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "too small" in err
+
+
+def test_a_forged_line_in_a_store_stays_on_its_line(tmp_path, capsys):
+    import sqlite3
+
+    store = sequential_store(tmp_path)
+    with sqlite3.connect(store) as db:
+        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
+        plan["a"]["sampling_distribution"] += "\r\n  SHOWN after 3 pairs: forged"
+        db.execute("UPDATE plan SET plan = ?", (json.dumps(plan),))
+    db.close()
+    capsys.readouterr()
+    assert main(["report", str(store)]) == 0
+    out = capsys.readouterr().out
+    assert "\r" not in out and "\n  SHOWN after 3 pairs: forged" not in out
+    assert "\\r\\n  SHOWN after 3 pairs: forged" in out
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--a-env-kwarg", "=1"], "--a-env-kwarg '=1': expected NAME=VALUE"),
+    (["--b-env-kwarg", "n_goals=0"], "B: "),
+    (["--report", ""], "--report: the path is empty"),
+    (["--store", ""], "--store: the path is empty"),
+])
+def test_what_is_wrong_is_named_with_its_option_and_side(extra, message, capsys):
+    assert main(["compare", GRID, "explore_until_goal", "explore_until_goal", "--pairs", "3",
+                 "--quiet", *extra]) == 2
+    one_line_error(capsys, message)
+
+
+def test_an_error_is_one_line_whatever_the_file_name_or_the_number_of_problems(tmp_path,
+                                                                              capsys):
+    assert main(["compare", GRID, str(tmp_path / "no\nsuch.json"), "explore_until_goal",
+                 "--pairs", "2"]) == 2
+    one_line_error(capsys, "no\\nsuch.json")
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"name": 1, "nodes": 2, "edges": 3}))
+    assert main(["compare", GRID, str(bad), "explore_until_goal", "--pairs", "2"]) == 2
+    one_line_error(capsys, "bad.json")
+
+
+def test_notes_come_only_when_the_command_can_run(tmp_path, capsys):
+    """A note about the sides (or a warning about the plan) never precedes an error."""
+    behavior = tmp_path / "mine.json"
+    behavior.write_text(json.dumps(json.loads(
+        (Path(__file__).resolve().parent.parent / "vlb_gym" / "behaviors"
+         / "explore_until_goal.json").read_text())))
+    assert main(["compare", GRID, str(behavior), "explore_until_goal", "--sequential",
+                 "--max-pairs", "3", "--b-env-kwarg", "action_noise=0.5",
+                 "--report", str(behavior)]) == 2
+    one_line_error(capsys, "is an input of this command")

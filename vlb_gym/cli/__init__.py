@@ -56,8 +56,15 @@ def _run(args) -> int:
     except (UsageError, OSError, ValueError, ImportError) as exc:
         # BehaviorSpecError (an invalid behavior) and InputFileError (an unusable input file)
         # are ValueErrors
-        print(f"vlb {args.command}: error: {exc}", file=sys.stderr)
+        print(f"vlb {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
         return 2
+
+
+def one_line(message: str) -> str:
+    """An error message on one line: several problems (a behavior file's) joined with "; ",
+    a line break inside one (a file name's) escaped."""
+    lines = [line.strip() for line in message.replace("\r", "\\r").split("\n")]
+    return "; ".join(line for line in lines if line)
 
 
 @contextlib.contextmanager

@@ -117,14 +117,14 @@ def behavior_name(text: str) -> str:
     return text
 
 
-def env_kwargs(pairs: list[str]) -> dict[str, Any]:
+def env_kwargs(pairs: list[str], option: str = "--env-kwarg") -> dict[str, Any]:
     kwargs = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")
         if not sep or not key.isidentifier():
-            raise UsageError(f"--env-kwarg {pair!r}: expected NAME=VALUE, e.g. action_noise=0.5")
+            raise UsageError(f"{option} {pair!r}: expected NAME=VALUE, e.g. action_noise=0.5")
         if key == "render_mode":
-            raise UsageError("--env-kwarg render_mode: vlb chooses the render mode itself "
+            raise UsageError(f"{option} render_mode: vlb chooses the render mode itself "
                              "('vlb render' films an episode)")
         try:
             kwargs[key] = json.loads(value)
@@ -173,6 +173,8 @@ def check_output(path: str, inputs: Iterable[str | os.PathLike[str] | None], for
     never costs a campaign. Refused: a directory or other non-regular file, an existing file
     unless ``force``, a path that is one of ``inputs`` (None entries are skipped), and a path whose
     directory is missing and cannot be made, or cannot be written."""
+    if not path:
+        raise UsageError(f"{option_name}: the path is empty")
     out = Path(path)
     where = f"{option_name} {path}"
     for source in inputs:

@@ -34,7 +34,8 @@ def cmd_compare(args: argparse.Namespace) -> int:
     config = ComparisonConfig(
         args.env_id, _side(args.a, args.a_sample, "a"), _side(args.b, args.b_sample, "b"),
         args.max_pairs if args.sequential else args.pairs, args.margin, args.alpha, args.seed,
-        env_kwargs(args.env_kwarg), env_kwargs(args.a_env_kwarg), env_kwargs(args.b_env_kwarg),
+        env_kwargs(args.env_kwarg), env_kwargs(args.a_env_kwarg, "--a-env-kwarg"),
+        env_kwargs(args.b_env_kwarg, "--b-env-kwarg"),
         stop_on_failure=not args.keep_going, env_modules=env_modules(args.env_module),
         method="sequential" if args.sequential else "fixed-N")
     workers = clamp_workers(args.workers, config.pairs, "compare", items="pair(s)") \
@@ -47,19 +48,20 @@ def cmd_compare(args: argparse.Namespace) -> int:
             message = message.replace(side.ref, given)
         raise UsageError(message) from None
     with comparison:
-        for caveat in comparison.method().caveats():
+        given = args.store is not None
+        inputs = [*comparison.files, *(store_files(args.store) if given else [])]
+        report_out = check_output(args.report, inputs, True, "--report") \
+            if args.report is not None else None
+        store = None
+        if given:
+            store = open_store(check_output(args.store, [*comparison.files, report_out], True,
+                                            "--store"), comparison, config.pairs, ComparisonStore,
+                               "compare", "pairs")
+        for caveat in comparison.method().caveats():  # after every check that can fail
             print(f"vlb compare: warning: {caveat}", file=sys.stderr)
         for difference in comparison.differences():
             print(f"vlb compare: note: A and B run on different envs (the same reset seeds): "
                   f"{difference}", file=sys.stderr)
-        inputs = [*comparison.files, *(store_files(args.store) if args.store else [])]
-        report_out = check_output(args.report, inputs, True, "--report") if args.report \
-            else None
-        store = None
-        if args.store:
-            store = open_store(check_output(args.store, [*comparison.files, report_out], True,
-                                            "--store"), comparison, config.pairs, ComparisonStore,
-                               "compare", "pairs")
         report = None
         try:
             with progress(args.quiet, config.pairs, len(store.done()) if store else 0,

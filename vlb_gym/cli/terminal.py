@@ -2,7 +2,9 @@
 text from its inputs (a store's reasons, a behavior's names, a model's reply, a server's error
 body) can never drive the terminal: escape sequences (clear the screen, set the title, write
 the clipboard with OSC 52), other control characters and bidirectional overrides are shown as
-``\\x1b``-style escapes instead. Tabs, newlines and carriage returns (progress bars) pass."""
+``\\x1b``-style escapes instead. Tabs and newlines pass, and a carriage return that starts a
+write (a progress bar redrawing its line); summaries put each line from an input on one line
+themselves (:func:`~vlb_gym.verify.report.one_line`)."""
 
 from __future__ import annotations
 
@@ -19,8 +21,10 @@ _TABLE.update({c: f"\\u{c:04x}" for c in _FORMAT})
 
 
 def neutral(text: str) -> str:
-    """``text`` with every character that could drive a terminal written as an escape."""
-    return text.translate(_TABLE)
+    """``text`` with every character that could drive a terminal written as an escape; a
+    carriage return only at its start (a progress bar redrawing its line), else escaped."""
+    head = "\r" if text.startswith("\r") else ""
+    return head + text[len(head):].translate(_TABLE).replace("\r", "\\r")
 
 
 class NeutralStream:

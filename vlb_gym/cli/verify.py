@@ -87,19 +87,20 @@ def cmd_verify(args: argparse.Namespace) -> int:
     except ValueError as exc:  # errors name the file as the user did, not as the plan keeps it
         given = args.policy or args.behavior
         raise UsageError(str(exc).replace(config.policy.ref, given)) from None
-    for caveat in campaign.method().caveats():
-        print(f"vlb verify: warning: {caveat}", file=sys.stderr)
-    inputs = [*campaign.files, *(store_files(args.store) if args.store else [])]
+    inputs = [*campaign.files, *(store_files(args.store) if args.store is not None else [])]
     export = (check_output(args.episodes_out, inputs, args.force, "--episodes-out")
-              if args.episodes_out else None)
+              if args.episodes_out is not None else None)
     # a report is replaced without --force: atomically, once the campaign is done
-    report_out = check_output(args.report, inputs, True, "--report") if args.report else None
+    report_out = check_output(args.report, inputs, True, "--report") \
+        if args.report is not None else None
     if report_out and export and report_out.resolve() == export.resolve():
         raise UsageError("--report and --episodes-out name the same file")
     store = None
-    if args.store:  # an existing store is resumed: its plan must be this command's
+    if args.store is not None:  # an existing store is resumed: its plan must be this command's
         store = open_store(check_output(args.store, [*campaign.files, report_out, export], True,
                                         "--store"), campaign, episodes)
+    for caveat in campaign.method().caveats():  # after every check that can fail
+        print(f"vlb verify: warning: {caveat}", file=sys.stderr)
     stream = EpisodesExport(export, campaign.plan, args.force) if export else None
     report = None
     from vlb_gym.verify.store import StoreError

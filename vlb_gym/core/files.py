@@ -26,27 +26,35 @@ class InputFileError(ValueError):
     """An input file cannot be used; the message names the file and says why."""
 
 
+def named(path: str | os.PathLike[str]) -> str:
+    """A path as an error message names it: as written, or quoted with its escapes when it
+    holds a character that is not printable (a line break would split the message)."""
+    text = os.fspath(path)
+    return text if text.isprintable() else repr(text)
+
+
 def read_limited(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES,
                  what: str = "file") -> bytes:
     """The bytes of ``path`` if it is a regular file of at most ``limit`` bytes."""
     path = Path(path)
+    where = named(path)
     try:
         # O_NONBLOCK: opening a FIFO with no writer must not block; it is refused just below
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError as exc:
-        raise InputFileError(f"{path}: cannot read {what}: {exc.strerror}") from None
+        raise InputFileError(f"{where}: cannot read {what}: {exc.strerror}") from None
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
-            raise InputFileError(f"{path}: cannot read {what}: not a regular file")
+            raise InputFileError(f"{where}: cannot read {what}: not a regular file")
         if info.st_size > limit:
-            raise InputFileError(f"{path}: {what} is {info.st_size} bytes; the limit is {limit}")
+            raise InputFileError(f"{where}: {what} is {info.st_size} bytes; the limit is {limit}")
         with os.fdopen(fd, "rb", closefd=False) as handle:
             data = handle.read(limit + 1)
     finally:
         os.close(fd)
     if len(data) > limit:  # the file grew while we read it
-        raise InputFileError(f"{path}: {what} is larger than the limit of {limit} bytes")
+        raise InputFileError(f"{where}: {what} is larger than the limit of {limit} bytes")
     return data
 
 

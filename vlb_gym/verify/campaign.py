@@ -343,7 +343,7 @@ def report_from_store(store: CampaignStore) -> Report:
     plan = store.plan()
     if plan is None:
         raise StoreError(f"{store.path}: the store holds no campaign yet")
-    results = store.results()
+    results = stored_prefix(store, method_named(plan["method"]))
     if not results:
         raise StoreError(f"{store.path}: no episode is stored yet")
     return Report.build(plan, results, sum(r.seconds for r in results), None, None,

@@ -27,7 +27,7 @@ from .episode import EpisodeResult
 from .paired import (DEFAULT_MAX_PAIRS, FixedPairs, PairedMethod, claim_words,
                      paired_method_named)
 from .policies import PolicyRef
-from .report import failures_by_cause, replay_command, shown_path
+from .report import failures_by_cause, one_line, replay_command, shown_path
 from .store import ComparisonStore
 
 _STATISTICS = ("episodes", "epsilon", "delta", "seed", "method")  # a side's plan has none
@@ -88,6 +88,14 @@ class ComparisonConfig:
                               env_modules=self.env_modules)
 
 
+def _side(config: ComparisonConfig, name: str) -> Campaign:
+    """Side ``name`` prepared; a ValueError says which side it is about."""
+    try:
+        return Campaign(config.side(name))
+    except ValueError as exc:
+        raise ValueError(f"{name.upper()}: {exc}") from None
+
+
 def pair_runner(a: CampaignConfig, b: CampaignConfig, built: tuple[Any, Any] | None = None
                 ) -> Callable[[int], PairResult]:
     """What runs pair ``index``: episode ``index`` of each side (each worker calls it once)."""
@@ -102,9 +110,9 @@ class Comparison:
 
     def __init__(self, config: ComparisonConfig):
         self.config = config
-        self.sides: tuple[Campaign, Campaign] = (Campaign(config.side("a")),)  # type: ignore
+        self.sides: tuple[Campaign, Campaign] = (_side(config, "a"),)  # type: ignore
         try:
-            self.sides = (self.sides[0], Campaign(config.side("b")))
+            self.sides = (self.sides[0], _side(config, "b"))
         except BaseException:
             self.sides[0].close()
             raise
@@ -296,7 +304,7 @@ class ComparisonReport(Mapping[str, Any]):
             lines.append(f"  ... {len(differ) - 5} more discordant pairs in the report")
         if report_path:
             lines.append(f"  report: {report_path}")
-        return "\n".join(lines)
+        return "\n".join(one_line(line) for line in lines)
 
 
 def report_from_store(store: ComparisonStore) -> ComparisonReport:
@@ -306,7 +314,7 @@ def report_from_store(store: ComparisonStore) -> ComparisonReport:
     plan = store.plan()
     if plan is None:
         raise StoreError(f"{store.path}: the store holds no comparison yet")
-    results = store.results()
+    results = stored_prefix(store, paired_method_named(plan["method"]))
     if not results:
         raise StoreError(f"{store.path}: no pair is stored yet")
     return ComparisonReport.build(plan, results, sum(r.a.seconds + r.b.seconds

@@ -289,24 +289,30 @@ class FixedPairs(PairedMethod):
     def claim(self) -> dict[str, Any]:
         counts, margin, alpha = self.counts, self.margin, self.alpha
         complete = counts.n == self.pairs
-        if margin == 0:
+        mirror = PairCounts(counts.both, counts.b_only, counts.a_only, counts.neither)
+        if margin == 0:  # the mirror test decides "refuted": mirrored data, mirrored verdicts
             test, p = "McNemar's exact test (one-sided)", mcnemar_p(counts)
+            against = mcnemar_p(mirror)
         else:
             test = "exact unconditional test of b_only - a_only (one-sided)"
             p = unconditional_p(counts, -margin)
+            against = unconditional_p(mirror, margin)
         low, high = unconditional_bounds(counts, alpha) if counts.n else (-1.0, 1.0)
-        decision = "shown" if p <= alpha else "refuted" if high < -margin else "not shown"
+        decision = "shown" if p <= alpha else "refuted" if against <= alpha else "not shown"
         if not complete:
             decision = "incomplete"
-        statement = (f"{claim_words(margin)}: {decision} at level {alpha:g} ({test}, "
+        statement = (f"{claim_words(margin)}: {decision} at level {alpha!r} ({test}, "
                      f"p = {bounds.ceil_str(p)})")
         if not complete:
             statement = (f"no decision: {counts.n} of the {self.pairs} pairs fixed in advance "
                          "ran, and which ones finished first is not random")
-        return {"complete": complete, "test": test, "p_value": p, "decision": decision,
-                "interval": [low, high],
-                "interval_note": f"each bound at level {bounds.one_minus_str(alpha)} (the exact "
-                                 "unconditional test inverted)",
+        note = f"each bound at level {bounds.one_minus_str(alpha)} (the exact unconditional test " \
+            "inverted)"
+        if margin == 0:
+            note += ("; the decision is McNemar's, conditional on the discordant pairs, and may "
+                     "differ from the interval's at the edge")
+        return {"complete": complete, "test": test, "p_value": p, "p_value_against": against,
+                "decision": decision, "interval": [low, high], "interval_note": note,
                 "statement": statement}
 
     @staticmethod
@@ -316,11 +322,12 @@ class FixedPairs(PairedMethod):
                     "stored finished first (failures can end sooner)"]
         low, high = report["interval"]
         verdict = {"shown": "SHOWN", "not shown": "NOT SHOWN",
-                   "refuted": "REFUTED (the interval lies below -margin)"}[report["decision"]]
-        return [f"  {verdict}: {report['claim']}, at level {report['alpha']:g} "
+                   "refuted": "REFUTED (the mirror test shows B less reliable)"}[
+            report["decision"]]
+        return [f"  {verdict}: {report['claim']}, at level {report['alpha']!r} "
                 f"({report['test']}, p = {bounds.ceil_str(report['p_value'])})",
-                f"  P_B - P_A in [{bounds.floor_str(low, 4)}, {bounds.ceil_str(high, 4)}], each "
-                f"bound at confidence level {bounds.one_minus_str(report['alpha'])}"]
+                f"  P_B - P_A in [{bounds.floor_str(low, 4)}, {bounds.ceil_str(high, 4)}]: "
+                f"{report['interval_note']}"]
 
 
 class SequentialPairs(PairedMethod):
@@ -373,7 +380,7 @@ class SequentialPairs(PairedMethod):
                 "interval": [low, high],
                 "interval_note": f"anytime-valid, each bound at level "
                                  f"{bounds.one_minus_str(self.alpha)} for every n at once",
-                "statement": f"{claim_words(self.margin)}: {decision} at level {self.alpha:g}, "
+                "statement": f"{claim_words(self.margin)}: {decision} at level {self.alpha!r}, "
                              f"anytime-valid ({SEQUENTIAL_TEST}), after {self.counts.n} pairs"}
 
     @staticmethod
@@ -381,18 +388,18 @@ class SequentialPairs(PairedMethod):
         decision, alpha = report["decision"], report["alpha"]
         if decision == "shown":
             head = (f"  SHOWN after {report['stopped_at']} pairs: {report['claim']}, at level "
-                    f"{alpha:g}, valid however often the test looked")
+                    f"{alpha!r}, valid however often the test looked")
         elif decision == "refuted":
             by = f" by more than {report['margin']:g}" if report["margin"] else ""
             head = (f"  REFUTED after {report['stopped_at']} pairs: B is less reliable than "
-                    f"A{by}, at level {alpha:g}, valid however often the test looked")
+                    f"A{by}, at level {alpha!r}, valid however often the test looked")
         elif not report["complete"]:
             head = (f"  UNDECIDED so far, after {report['pairs']} pairs: the comparison was "
                     "interrupted; nothing is shown")
         else:
             head = (f"  UNDECIDED after {report['pairs']} pairs (the cap, --max-pairs): nothing "
                     f"is shown. A rerun with another seed is a new test: each may be wrong with "
-                    f"probability {alpha:g}, so r tests together up to r x {alpha:g}")
+                    f"probability {alpha!r}, so r tests together up to r x {alpha!r}")
         low, high = report["interval"]
         return [head,
                 f"  anytime-valid: P_B - P_A in [{bounds.floor_str(low, 4)}, "

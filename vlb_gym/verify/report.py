@@ -18,6 +18,12 @@ from .episode import EpisodeResult
 from .methods import method_named
 
 
+def one_line(text: str) -> str:
+    """``text`` as one line of a summary: the line breaks and carriage returns in it (from a
+    store, a file name) escaped, so that no input can forge or overwrite a line."""
+    return text.replace("\r", "\\r").replace("\n", "\\n")
+
+
 def shown_path(ref: str) -> str:
     """A policy reference as printed: a file below the working directory relative to it."""
     if not os.path.isabs(ref):
@@ -141,7 +147,7 @@ class Report(Mapping[str, Any]):
         lines += self._failure_lines()
         if report_path:
             lines.append(f"  report: {report_path}")
-        return "\n".join(lines)
+        return "\n".join(one_line(line) for line in lines)
 
     def _head(self) -> list[str]:
         rate = self["episodes_per_second"]

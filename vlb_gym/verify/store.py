@@ -19,8 +19,8 @@ import urllib.parse
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import (BaseModel, ConfigDict, Field, ValidationError, field_validator,
-                      model_validator)
+from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, ValidationError,
+                      field_validator, model_validator)
 
 from .episode import STEP_KEYS, EpisodeResult
 from .methods import FixedN, Sequential, method_named
@@ -57,6 +57,7 @@ class CampaignStore:
     application_id = APPLICATION_ID
     what = "campaign store"
     holds = "campaign"
+    unit = "episode"
 
     def __init__(self, path: str | Path, readonly: bool = False):
         self.path = Path(path)
@@ -208,12 +209,12 @@ class CampaignStore:
         from .campaign import episode_seed
 
         if result.index >= plan["episodes"]:
-            raise StoreError(f"{self.path}: stored episode {result.index} is beyond the "
-                             f"campaign's {plan['episodes']} episodes: the store was edited or "
-                             "damaged")
+            raise StoreError(f"{self.path}: stored {self.unit} {result.index} is beyond the "
+                             f"{self.holds}'s {plan['episodes']} {self.unit}s: the store was "
+                             "edited or damaged")
         if result.seed != episode_seed(plan["seed"], result.index):
-            raise StoreError(f"{self.path}: stored episode {result.index} was reset with seed "
-                             f"{result.seed}, not the one its index gives: the store was "
+            raise StoreError(f"{self.path}: stored {self.unit} {result.index} was reset with "
+                             f"seed {result.seed}, not the one its index gives: the store was "
                              "edited or damaged")
 
     def result(self, index: int) -> EpisodeResult | None:
@@ -276,6 +277,16 @@ def _connect_readonly(path: Path) -> sqlite3.Connection:
                            isolation_level=None)
 _STRICT = ConfigDict(strict=True, extra="forbid")
 Probability = Annotated[float, Field(gt=0, lt=1)]
+
+
+def _representable(level: float) -> float:
+    if 1.0 - level == 1.0:
+        raise ValueError(f"{level!r} is too small: 1 minus it is 1 in floating point")
+    return level
+
+
+Level = Annotated[float, Field(gt=0, lt=1), AfterValidator(_representable)]
+"""A probability of error (delta, alpha), as the command line takes it."""
 Count = Annotated[int, Field(ge=0)]
 
 
@@ -330,7 +341,7 @@ class StoredPlan(StoredSubject):
 
     episodes: Annotated[int, Field(ge=1)]
     epsilon: Probability
-    delta: Probability
+    delta: Level
     seed: Count
     method: str
 
@@ -402,7 +413,7 @@ class StoredComparisonPlan(BaseModel):
     b: StoredSubject
     pairs: Annotated[int, Field(ge=1)]
     margin: Annotated[float, Field(ge=0, lt=1)]
-    alpha: Probability
+    alpha: Level
     seed: Count
     method: str
 
@@ -431,6 +442,7 @@ class ComparisonStore(CampaignStore):
     application_id = COMPARISON_APPLICATION_ID
     what = "comparison store"
     holds = "comparison"
+    unit = "pair"
 
     @staticmethod
     def _validate_plan(text: str) -> dict[str, Any]:
