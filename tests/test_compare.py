@@ -49,7 +49,7 @@ def test_the_tail_of_the_difference_is_the_trinomial_sum():
         for t in (-3, 0, 2, 5):
             expected = sum(trinomial(n, a, b, p_a, p_b)
                            for a in range(n + 1) for b in range(n + 1 - a) if b - a >= t)
-            got = paired._tails(n, t, d0, np.array([s]))[0]
+            got = paired._tails(n, t, np.array([d0]), np.array([s]))[0]
             assert got == pytest.approx(expected, abs=1e-12)
 
 
@@ -101,6 +101,23 @@ def test_intervals_hold_the_estimate_and_the_sequential_is_the_wider(a_only, b_o
     assert paired.log_wealth(counts, low + 1e-5, "below") < threshold  # just inside: kept
     if low > -1 + 1e-5:
         assert paired.log_wealth(counts, low - 1e-5, "below") >= threshold
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 30), st.integers(0, 80), st.integers(0, 150))
+def test_the_fixed_n_interval_holds_the_estimate(a_only, b_only, both):
+    counts = PairCounts(both, a_only, b_only, 2)
+    low, high = paired.unconditional_bounds(counts, 0.05)
+    estimate = (b_only - a_only) / counts.n
+    assert -1 <= low <= estimate + 1e-4 and estimate - 1e-4 <= high <= 1
+
+
+def test_the_unconditional_p_value_grows_with_the_null_value():
+    counts = PairCounts(127, 0, 73, 0)
+    values = [paired.unconditional_p(counts, d0) for d0 in np.linspace(-0.5, 0.9, 15)]
+    assert values == sorted(values)
+    low, high = paired.unconditional_bounds(counts, 0.05)
+    assert low < 73 / 200 < high
 
 
 @pytest.mark.parametrize("probabilities, margin", [

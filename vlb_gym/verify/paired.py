@@ -120,26 +120,28 @@ def mcnemar_p(counts: PairCounts) -> float:
     return float(binom.sf(counts.b_only - 1, counts.discordant, 0.5))
 
 
-def _tails(n: int, t: int, d0: float, s: np.ndarray) -> np.ndarray:
-    """``P[b_only - a_only >= t]`` for ``n`` pairs at each discordance ``s`` on the boundary
-    ``d = d0`` (``P[only B] = (s + d0) / 2``, ``P[only A] = (s - d0) / 2``), exactly: the
-    discordant count ``M`` is Binomial(n, s) and, given ``M = m``, ``b_only`` is
-    Binomial(m, (s + d0) / (2 s))."""
+def _tails(n: int, t: int, d: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """``P[b_only - a_only >= t]`` for ``n`` pairs at each discordance ``s`` and difference
+    ``d`` (``P[only B] = (s + d) / 2``, ``P[only A] = (s - d) / 2``), exactly: the discordant
+    count ``M`` is Binomial(n, s) and, given ``M = m``, ``b_only`` is Binomial(m, (s + d) /
+    (2 s))."""
     from scipy.stats import binom
 
     m = np.arange(n + 1)[:, None]
     need = np.ceil((m + t) / 2.0)  # b_only >= (m + t) / 2
-    q = np.clip((s + d0) / (2 * s), 0.0, 1.0)[None, :]
+    q = np.clip((s + d) / (2 * s), 0.0, 1.0)[None, :]
     return np.clip((binom.pmf(m, n, s[None, :]) * binom.sf(need - 1, m, q)).sum(axis=0), 0, 1)
 
 
 def unconditional_p(counts: PairCounts, d0: float) -> float:
     """The exact unconditional p-value of the null ``d <= d0`` (``-1 < d0 < 1``) given the
     counts, Berger and Boos' way: ``gamma`` (:data:`BERGER_BOOS_GAMMA`) plus the largest
-    ``P[T >= t]`` on the boundary ``d = d0`` over the discordances ``s`` in a ``1 - gamma``
-    Clopper-Pearson interval from the observed discordant count (see the module's
-    docstring); valid at every level (R. L. Berger and D. D. Boos, "P values maximised over a
-    confidence set for the nuisance parameter", JASA 89, 1994)."""
+    ``P[T >= t]`` over the null's points whose discordance ``s`` lies in a ``1 - gamma``
+    Clopper-Pearson interval from the observed discordant count. At a given ``s`` the
+    difference is at most ``s`` and ``P[T >= t]`` grows with it, so the largest is at
+    ``d = min(d0, s)`` (see the module's docstring); valid at every level (R. L. Berger and
+    D. D. Boos, "P values maximised over a confidence set for the nuisance parameter", JASA 89,
+    1994)."""
     from scipy.optimize import minimize_scalar
     from scipy.stats import beta
 
@@ -149,14 +151,18 @@ def unconditional_p(counts: PairCounts, d0: float) -> float:
     half = BERGER_BOOS_GAMMA / 2
     low = beta.ppf(half, m, n - m + 1) if m > 0 else 0.0
     high = beta.ppf(1 - half, m + 1, n - m) if m < n else 1.0
-    low, high = max(low, abs(d0), 1e-12), min(high, 1.0)  # p_b, p_a in [0, 1] at d = d0
-    if low > high:  # no point of the boundary is in the interval
+    low, high = max(low, -d0, 1e-12), min(high, 1.0)  # d >= -s: the null needs s >= -d0
+    if low > high:  # no point of the null is in the interval
         return min(1.0, BERGER_BOOS_GAMMA)
+
+    def tails(s: np.ndarray) -> np.ndarray:
+        return _tails(n, t, np.minimum(d0, s), s)
+
     grid = np.linspace(low, high, NUISANCE_GRID)
-    values = _tails(n, t, d0, grid)
+    values = tails(grid)
     best = int(values.argmax())
     step = (high - low) / (NUISANCE_GRID - 1)
-    found = minimize_scalar(lambda s: -float(_tails(n, t, d0, np.array([s]))[0]),
+    found = minimize_scalar(lambda s: -float(tails(np.array([s]))[0]),
                             method="bounded", options={"xatol": 1e-9},
                             bounds=(max(low, grid[best] - step), min(high, grid[best] + step)))
     return float(min(1.0, max(values[best], -found.fun) + BERGER_BOOS_GAMMA))
