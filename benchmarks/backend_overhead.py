@@ -22,7 +22,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from vlb_gym.verify.backends import chunk_size, run_indices
+from vlb_gym.verify.backends import run_indices
+from vlb_gym.verify.chunks import chunk_size
 from vlb_gym.verify.campaign import CampaignConfig, episode_runner
 
 PRELOAD = ["vlb_gym.verify.campaign"]

@@ -306,7 +306,7 @@ def test_indices_are_taken_as_they_run_not_listed(backend, workers):
 
 
 def test_chunks_are_cut_lazily_and_shrink_towards_the_end():
-    from vlb_gym.verify.backends import ChunkQueue, chunks
+    from vlb_gym.verify.chunks import ChunkQueue, chunks
 
     queue = ChunkQueue(range(10 ** 18), 10 ** 18, 2)
     assert queue.popleft() == list(range(64)) and queue[0] == list(range(64, 128))

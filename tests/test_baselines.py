@@ -378,7 +378,8 @@ def test_the_random_floor_draws_uniformly_among_admissible_actions():
 
 
 def test_rows_pair_up_on_their_failed_episodes():
-    from vlb_gym.baselines.compare import Row, paired, support
+    from vlb_gym.baselines.compare import Row
+    from vlb_gym.baselines.pairing import paired, support
 
     def row(contestant, kind, failed, seed=None):
         return Row("find_goal", contestant, kind, seed, 100, 100 - len(failed), 0.9, 0.9, 59,

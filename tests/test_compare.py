@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from vlb_gym.cli import main
-from vlb_gym.verify import paired
+from vlb_gym.verify import paired, paired_methods
 from vlb_gym.verify.campaign import CampaignConfig, episode_seed, run_campaign
 from vlb_gym.verify.comparison import Comparison, ComparisonConfig, report_from_store
 from vlb_gym.verify.paired import PairCounts
@@ -140,24 +140,24 @@ def test_the_simulation_decides_as_the_method_does():
     outcomes = rng.choice(4, size=(40, 300), p=[0.7, 0.05, 0.2, 0.05])
     decisions, stops = paired.simulate((0, 0, 0, 0), 0.0, 0.05, 40, 300, outcomes=outcomes)
     for row, decision, stop in zip(outcomes, decisions, stops):
-        method = paired.SequentialPairs(0.0, 0.05, 300)
+        method = paired_methods.SequentialPairs(0.0, 0.05, 300)
         method.feed(((kind in (0, 1)), (kind in (0, 2))) for kind in row)
         assert method.counts.n == stop
         assert {"shown": 1, "refuted": -1, None: 0}[method.decision] == decision
 
 
 def test_a_sequential_plan_that_cannot_decide_says_so():
-    method = paired.SequentialPairs(0.0, 0.05, 5)
+    method = paired_methods.SequentialPairs(0.0, 0.05, 5)
     assert method.earliest_decision() > 5
     assert "nothing can be shown" in method.caveats()[0]
-    assert paired.SequentialPairs(0.0, 0.05, 100).caveats() == []
+    assert paired_methods.SequentialPairs(0.0, 0.05, 100).caveats() == []
 
 
 @pytest.mark.parametrize("margin, alpha, pairs", [(-0.1, 0.05, 10), (1.0, 0.05, 10),
                                                  (0.1, 0.0, 10), (0.1, 0.05, 0)])
 def test_bad_settings_are_refused(margin, alpha, pairs):
     with pytest.raises(ValueError):
-        paired.FixedPairs(margin, alpha, pairs)
+        paired_methods.FixedPairs(margin, alpha, pairs)
 
 
 # ------------------------------------------------------------------------------- comparisons
@@ -311,7 +311,7 @@ def test_mirrored_pairs_give_mirrored_verdicts(margin):
     for n, a_only, b_only in [(5, 0, 4), (8, 1, 6), (13, 0, 5), (20, 5, 13), (20, 0, 6)]:
         counts = PairCounts(n - a_only - b_only, a_only, b_only, 0)
         mirror = PairCounts(n - a_only - b_only, b_only, a_only, 0)
-        one, other = (paired.FixedPairs(margin, 0.05, n) for _ in range(2))
+        one, other = (paired_methods.FixedPairs(margin, 0.05, n) for _ in range(2))
         for method, c in ((one, counts), (other, mirror)):
             method.feed([(True, True)] * c.both + [(True, False)] * c.a_only
                         + [(False, True)] * c.b_only)

@@ -68,6 +68,9 @@ def check_observation(algorithm: str | None, observation: str, where: str = "") 
                          f"{' or '.join(SPATIAL_ALGORITHMS)}, not {algorithm}")
 
 
+DELTA = 0.05
+"""The comparison's level: of each campaign's lower bound and of each paired test."""
+
 DEFAULT_AGENTS = (AgentSpec("maskable_ppo", "spatial"),
                   AgentSpec("maskable_ppo", "spatial", 0.02),
                   AgentSpec("maskable_ppo", "image", 0.02), AgentSpec("maskable_ppo"))

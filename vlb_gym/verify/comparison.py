@@ -24,8 +24,8 @@ from typing import Any
 from .campaign import (Campaign, CampaignConfig, Remaining, _in_process, episode_runner,
                        feed_until_decided, lightened, preload, run_where, stored_prefix)
 from .episode import EpisodeResult
-from .paired import (DEFAULT_MAX_PAIRS, FixedPairs, PairedMethod, claim_words,
-                     paired_method_named)
+from .paired import DEFAULT_MAX_PAIRS, claim_words
+from .paired_methods import FixedPairs, PairedMethod, paired_method_named
 from .policies import PolicyRef
 from .report import failures_by_cause, one_line, replay_command, shown_path
 from .store import ComparisonStore

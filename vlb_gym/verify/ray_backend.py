@@ -12,8 +12,8 @@ import threading
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TypeVar
 
-from .backends import (IN_FLIGHT, ChunkQueue, RemoteTraceback, freeze_setup, gc_paused,
-                       one_core_each)
+from .backends import IN_FLIGHT, RemoteTraceback, freeze_setup, gc_paused, one_core_each
+from .chunks import ChunkQueue
 
 T = TypeVar("T")
 
