@@ -182,7 +182,7 @@ class Comparison:
         consumers = [f for f in (store.add if store is not None else None, on_pair) if f]
 
         def take(pair: PairResult) -> None:
-            method.observe(pair.a.success, pair.b.success)
+            method.observe((pair.a.success, pair.b.success))
             for consume in consumers:
                 consume(pair)
 

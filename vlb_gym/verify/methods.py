@@ -23,13 +23,60 @@ from typing import Any, ClassVar
 from . import bounds, sequential
 
 
-class Method(abc.ABC):
-    """A statistical method for one campaign of at most ``episodes`` episodes."""
+class Decider(abc.ABC):
+    """What every statistical method is, of campaigns and of comparisons alike: it observes
+    outcomes one by one (in index order when it may stop early), says when it has decided, and
+    gives the report's claim, in keys and in words."""
 
     name: ClassVar[str]
-    #: whether it may decide before the last episode: the campaign then feeds it episodes in
-    #: index order (whatever order workers finish them in) and drops those past its decision
+    #: whether it may decide before the last outcome: it is then fed outcomes in index order
+    #: (whatever order workers finish them in), and those past its decision are dropped
     stops_early: ClassVar[bool]
+
+    def observe(self, outcome: Any) -> None:
+        """One more outcome (refused once the method has decided)."""
+        if self.decided:
+            raise RuntimeError(f"{self.name}: the method has decided already")
+        self._count(outcome)
+
+    @abc.abstractmethod
+    def _count(self, outcome: Any) -> None:
+        """Take ``outcome`` into the method's counts."""
+
+    def feed(self, outcomes: Iterable[Any]) -> int:
+        """Observe ``outcomes`` (in index order) until the method decides; how many it used."""
+        used = 0
+        for outcome in outcomes:
+            if self.decided:
+                break
+            self.observe(outcome)
+            used += 1
+        return used
+
+    @property
+    @abc.abstractmethod
+    def decided(self) -> bool:
+        """Whether the run may stop now."""
+
+    def caveats(self) -> list[str]:
+        """What to tell the user before the run (a plan that cannot reach a decision, say);
+        none by default."""
+        return []
+
+    @abc.abstractmethod
+    def claim(self) -> dict[str, Any]:
+        """The report's keys for the claim (``complete`` and ``statement`` at least)."""
+
+    @staticmethod
+    @abc.abstractmethod
+    def lines(report: Mapping[str, Any]) -> list[str]:
+        """The claim of ``report`` in words, as the command prints it."""
+
+
+class Method(Decider):
+    """A statistical method for one campaign of at most ``episodes`` episodes; an outcome is
+    an episode's success. Its claim has at least ``complete``, ``confidence``,
+    ``lower_bound`` and ``statement``."""
 
     def __init__(self, epsilon: float, delta: float, episodes: int):
         bounds._check_probability("epsilon", epsilon)
@@ -48,44 +95,11 @@ class Method(abc.ABC):
     def n(self) -> int:
         return self.successes + self.failures
 
-    def observe(self, success: bool) -> None:
-        """One more episode's outcome."""
-        if self.decided:
-            raise RuntimeError(f"{self.name}: the method has decided already")
+    def _count(self, success: bool) -> None:
         if success:
             self.successes += 1
         else:
             self.failures += 1
-
-    def feed(self, outcomes: Iterable[bool]) -> int:
-        """Observe ``outcomes`` (in index order) until the method decides; how many it used."""
-        used = 0
-        for success in outcomes:
-            if self.decided:
-                break
-            self.observe(success)
-            used += 1
-        return used
-
-    @property
-    @abc.abstractmethod
-    def decided(self) -> bool:
-        """Whether the campaign may stop now."""
-
-    def caveats(self) -> list[str]:
-        """What to tell the user before the campaign runs (a plan that cannot reach a
-        decision, say); none by default."""
-        return []
-
-    @abc.abstractmethod
-    def claim(self) -> dict[str, Any]:
-        """The report's keys for the claim: at least ``complete``, ``confidence``,
-        ``lower_bound`` and ``statement`` (one sentence)."""
-
-    @staticmethod
-    @abc.abstractmethod
-    def lines(report: Mapping[str, Any]) -> list[str]:
-        """The claim of ``report`` in words, as ``vlb verify`` prints it."""
 
 
 class FixedN(Method):
@@ -143,8 +157,8 @@ class Sequential(Method):
     def default_episodes(cls, epsilon: float, delta: float) -> int:
         return sequential.default_max_episodes(epsilon, delta)
 
-    def observe(self, success: bool) -> None:
-        super().observe(success)
+    def _count(self, success: bool) -> None:
+        super()._count(success)
         self.test.update(success)
 
     def earliest_certification(self) -> int:

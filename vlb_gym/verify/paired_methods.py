@@ -8,23 +8,21 @@ decision (the statistics are :mod:`.paired`'s).
 
 from __future__ import annotations
 
-import abc
 import math
-from collections.abc import Iterable, Mapping
-from typing import Any, ClassVar
+from collections.abc import Mapping
+from typing import Any
 
 from . import bounds
+from .methods import Decider
 from .paired import (BETS, SEQUENTIAL_TEST, PairCounts, anytime_bounds, check_margin,
                      claim_words, log_wealth, mcnemar_p, unconditional_bounds, unconditional_p)
 
 
-class PairedMethod(abc.ABC):
+class PairedMethod(Decider):
     """A statistical method for a comparison of at most ``pairs`` pairs, testing ``d <=
-    -margin`` at level ``alpha``: it sees the pairs' outcomes (in index order when it may stop
-    early), says when it has decided, and gives the report's claim."""
-
-    name: ClassVar[str]
-    stops_early: ClassVar[bool]
+    -margin`` at level ``alpha``; an outcome is a pair's ``(a_success, b_success)``. Its claim
+    has at least ``complete``, ``decision`` (``"shown"``, ``"refuted"``, ``"not shown"`` or
+    ``"undecided"``), ``interval`` and ``statement``."""
 
     def __init__(self, margin: float, alpha: float, pairs: int):
         check_margin(margin)
@@ -34,39 +32,8 @@ class PairedMethod(abc.ABC):
         self.margin, self.alpha, self.pairs = margin, alpha, pairs
         self.counts = PairCounts()
 
-    def observe(self, a_success: bool, b_success: bool) -> None:
-        if self.decided:
-            raise RuntimeError(f"{self.name}: the method has decided already")
-        self.counts = self.counts.add(a_success, b_success)
-
-    def feed(self, outcomes: Iterable[tuple[bool, bool]]) -> int:
-        """Observe ``outcomes`` (in index order) until the method decides; how many it used."""
-        used = 0
-        for a, b in outcomes:
-            if self.decided:
-                break
-            self.observe(a, b)
-            used += 1
-        return used
-
-    @property
-    @abc.abstractmethod
-    def decided(self) -> bool:
-        """Whether the comparison may stop now."""
-
-    def caveats(self) -> list[str]:
-        """What to tell the user before the comparison runs."""
-        return []
-
-    @abc.abstractmethod
-    def claim(self) -> dict[str, Any]:
-        """The report's keys: at least ``complete``, ``decision`` (``"shown"``, ``"refuted"``,
-        ``"not shown"`` or ``"undecided"``), ``interval`` and ``statement``."""
-
-    @staticmethod
-    @abc.abstractmethod
-    def lines(report: Mapping[str, Any]) -> list[str]:
-        """The claim of ``report`` in words."""
+    def _count(self, outcome: tuple[bool, bool]) -> None:
+        self.counts = self.counts.add(*outcome)
 
 
 class FixedPairs(PairedMethod):
@@ -135,8 +102,8 @@ class SequentialPairs(PairedMethod):
         self.decision: str | None = None
         self.stopped_at: int | None = None
 
-    def observe(self, a_success: bool, b_success: bool) -> None:
-        super().observe(a_success, b_success)
+    def _count(self, outcome: tuple[bool, bool]) -> None:
+        super()._count(outcome)
         threshold = -math.log(self.alpha)
         if log_wealth(self.counts, -self.margin, "below") >= threshold:
             self.decision = "shown"
