@@ -1,5 +1,5 @@
-"""The budget hierarchy: an evaluation, a step (every evaluation that chooses one action) and an
-episode (a dry run is one short episode) each have a work budget of their own, so the worst
+"""The budget hierarchy: an evaluation, a step (every evaluation that chooses one action), an
+episode and a dry run (its episodes together) each have a work budget of their own, so the worst
 behavior file the schema admits (1,024 edges, each guard costing about half an evaluation's
 budget) ends its episode after a bounded amount of work, whatever it does."""
 
@@ -77,3 +77,17 @@ def test_the_shipped_behaviors_use_a_sliver_of_every_budget(shipped, grid_env):
         assert run_episode(grid_env, policy, seed=seed).rho == 1
         step, episode = charged(policy)
         assert episode < budget.MAX_EPISODE_WORK / 100
+
+
+def test_a_dry_run_has_one_episode_budget_for_all_its_episodes(grid_env, write_behavior):
+    """A model's reply whose episodes each stay just within the episode budget: the dry run
+    stops after two of them (the layer's own budget), not after all its seeds."""
+    from vlb_gym.abstractor import validate
+    from vlb_gym.core.spec import BehaviorSpecError
+
+    doc = worst_file(5)  # three heavy guards a step: about 1.4e6 units, within a step's 5e6
+    doc["edges"][-1]["guard"] = doc["edges"][-2]["guard"] = "True"
+    doc["terminals"] = ["go"]
+    policy = load_behavior(str(write_behavior(doc)), grid_env)
+    with pytest.raises(BehaviorSpecError, match="used more than 100000000 work units together"):
+        validate.dry_run(policy.behavior, grid_env, seeds=(0, 1, 2, 3, 4, 5), steps=50)

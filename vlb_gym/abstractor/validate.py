@@ -16,6 +16,7 @@ import re
 
 import gymnasium as gym
 
+from vlb_gym.core.budget import MAX_EPISODE_WORK
 from vlb_gym.core.compiler import CompiledBehavior
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.library import BehaviorLibrary, compile_spec
@@ -40,15 +41,22 @@ def dry_run(compiled: CompiledBehavior, env: gym.Env, seeds=DRY_RUN_SEEDS,
     """Layer dry-run: a few episodes of at most ``steps`` primitives, run as campaigns run them
     (:func:`~vlb_gym.verify.episode.run_episode`); an episode that raised (a behavior runtime
     error, an exceeded budget) fails the layer, a failed certificate or promise does not (it is
-    the behavior's outcome, which verification judges)."""
+    the behavior's outcome, which verification judges). The episodes together have one
+    episode's work budget (:data:`~vlb_gym.core.budget.MAX_EPISODE_WORK`): the layer stops
+    after at most two episodes' work, whatever the reply."""
     robust = env if isinstance(env, RobustnessWrapper) else RobustnessWrapper(env)
     policy = BehaviorPolicy(compiled, env.unwrapped)
+    used = 0
     for seed in seeds:
         result = run_episode(robust, policy, seed, stop_on_failure=False, max_primitives=steps)
         if result.error is not None:  # the exception itself, not an earlier failed certificate
             raise BehaviorSpecError(f"dry run from reset seed {seed}, before primitive "
                                     f"{result.primitives + 1}: "
                                     f"{result.error.strip().splitlines()[-1]}", "dry-run")
+        used += policy.episode_work
+        if used > MAX_EPISODE_WORK:  # the dry run's budget: one episode's, all seeds together
+            raise BehaviorSpecError(f"dry run: its episodes used more than {MAX_EPISODE_WORK} "
+                                    "work units together (one episode's budget)", "dry-run")
 
 
 def validate_reply(reply: str, env: gym.Env, library: BehaviorLibrary, name: str | None = None,

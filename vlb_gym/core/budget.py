@@ -3,7 +3,9 @@
 An evaluation is charged *work*, not items (see :mod:`.expressions`); every list, tuple or string
 an operation builds holds at most :data:`MAX_SIZE` elements, every integer it computes stays below
 :data:`MAX_INT_RESULT` in magnitude, ``round`` takes at most :data:`MAX_ROUND_DIGITS` digits, and
-behavior functions are called at most :data:`MAX_CALLS` times. Exceeding any limit raises
+behavior functions are called at most :data:`MAX_CALLS` times. The evaluations of one step share
+:data:`MAX_STEP_WORK`, those of one episode :data:`MAX_EPISODE_WORK` (settled as each evaluation
+starts: at most one evaluation's work beyond them). Exceeding any limit raises
 :class:`EvaluationLimitError`.
 """
 
@@ -22,7 +24,7 @@ MAX_CALLS = 10_000  # calls of behavior functions per top-level evaluation
 MAX_INT_RESULT = 2**63  # magnitude bound of computed integers
 MAX_ROUND_DIGITS = 20
 MAX_STEP_WORK = 5 * MAX_WORK  # work units of every evaluation choosing one action together
-MAX_EPISODE_WORK = 100 * MAX_WORK  # ... of one episode (a dry run is one short episode)
+MAX_EPISODE_WORK = 100 * MAX_WORK  # ... of one episode (and of a dry run's episodes together)
 
 
 class EvaluationLimitError(ValueError):
@@ -74,6 +76,11 @@ class Budget:
     def new_episode(self) -> None:
         """An episode begins: its account (and its first step's) starts from zero."""
         self.work, self.step, self.episode = MAX_WORK, 0, 0
+
+    @property
+    def episode_spent(self) -> int:
+        """The episode's work so far, the evaluation running (or last run) included."""
+        return self.episode + MAX_WORK - max(self.work, -1)
 
     def new_step(self) -> None:
         """A step (one action chosen) begins: its account starts from zero."""

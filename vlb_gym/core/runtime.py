@@ -70,6 +70,11 @@ class BehaviorPolicy:
     def name(self) -> str:
         return self.behavior.name
 
+    @property
+    def episode_work(self) -> int:
+        """The work units the evaluations of this episode have used so far."""
+        return self._budget.episode_spent
+
     def reset(self, seed: int | None = None) -> None:
         """Forget the position in the graph and the variables; the next predict starts anew
         (a graph draws no random numbers: ``seed`` is unused)."""
