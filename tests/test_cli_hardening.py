@@ -10,6 +10,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from fractions import Fraction
 from pathlib import Path
@@ -282,8 +283,10 @@ def test_ctrl_c_keeps_the_episodes_and_prints_one_line(signum, tmp_path):
     """Ctrl-C, and SIGTERM or SIGHUP to the process group (what `timeout`, a closed terminal or
     a job scheduler send), end a campaign alike: one line, every finished episode kept, the
     workers' temporary directory gone, exit code 128 + the signal (130 for Ctrl-C)."""
-    stream, temporary = tmp_path / "episodes.jsonl", tmp_path / "tmp"
-    temporary.mkdir()
+    stream = tmp_path / "episodes.jsonl"
+    # the workers' temporary directory, watched; short, as the forkserver's socket lives there
+    # (AF_UNIX paths are limited to 108 bytes)
+    temporary = Path(tempfile.mkdtemp(prefix="vlbt", dir="/tmp"))
     proc = subprocess.Popen(
         [sys.executable, "-m", "vlb_gym.cli", "verify", GRID, "--behavior",
          "find_goal_and_oscillate", "--episodes", "100000", "--epsilon", "0.05", "--workers", "2",
@@ -304,7 +307,9 @@ def test_ctrl_c_keeps_the_episodes_and_prints_one_line(signum, tmp_path):
             os.killpg(proc.pid, signal.SIGKILL)
     plan, episodes, end = read_export(stream)
     assert proc.returncode == 128 + signum, err
-    assert not [p for p in temporary.iterdir() if p.name.startswith("vlb-workers-")]
+    left = [p for p in temporary.iterdir() if p.name.startswith("vlb-workers-")]
+    shutil.rmtree(temporary, ignore_errors=True)
+    assert not left
     assert "Traceback" not in err and err.count("\n") == 1, err
     assert err == f"vlb verify: interrupted; {len(episodes)} episode(s) written to {stream}\n"
     assert 0 < len(episodes) < 100000 and plan["episodes"] == 100000
