@@ -9,7 +9,7 @@ from vlb_gym.core.files import write_atomic
 
 from .common import (UsageError, add_env_kwarg, check_output, clamp_workers, count, env_kwargs,
                      env_modules, fraction_below_one, level, named_policy)
-from .verify import open_store, progress
+from .verify import check_run_args, open_store, progress
 
 
 def _side(ref: str, sample: bool, name: str):
@@ -18,15 +18,7 @@ def _side(ref: str, sample: bool, name: str):
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
-    if args.sequential and args.pairs is not None:
-        raise UsageError("--pairs and --sequential exclude each other: a sequential comparison "
-                         "stops by itself (cap it with --max-pairs)")
-    if not args.sequential and args.pairs is None:
-        raise UsageError("the following arguments are required: --pairs (or --sequential)")
-    if args.max_pairs is not None and not args.sequential:
-        raise UsageError("--max-pairs needs --sequential (a fixed-N comparison runs --pairs)")
-    if args.ray_address and args.backend != "ray":
-        raise UsageError("--ray-address needs --backend ray")
+    check_run_args(args, "pairs", "comparison")
     from vlb_gym.verify.comparison import Comparison, ComparisonConfig
     from vlb_gym.verify.replay import store_files
     from vlb_gym.verify.store import ComparisonStore, StoreError

@@ -13,14 +13,18 @@ from vlb_gym.core.files import write_atomic
 from .common import (UsageError, add_env_kwarg, check_output, clamp_workers,
                      count, env_kwargs, env_modules, level, policy_ref, probability)
 
-def _check_verify_args(args: argparse.Namespace) -> None:
-    if args.sequential and args.episodes is not None:
-        raise UsageError("--episodes and --sequential exclude each other: a sequential campaign "
-                         "stops by itself (cap it with --max-episodes)")
-    if not args.sequential and args.episodes is None:
-        raise UsageError("the following arguments are required: --episodes (or --sequential)")
-    if args.max_episodes is not None and not args.sequential:
-        raise UsageError("--max-episodes needs --sequential (a fixed-N campaign runs --episodes)")
+def check_run_args(args: argparse.Namespace, unit: str = "episodes",
+                   what: str = "campaign") -> None:
+    """The options of a run of ``unit`` (``--UNIT N`` fixed in advance, or ``--sequential``
+    capped by ``--max-UNIT``) and of its backend, checked together."""
+    count, cap = getattr(args, unit), getattr(args, f"max_{unit}")
+    if args.sequential and count is not None:
+        raise UsageError(f"--{unit} and --sequential exclude each other: a sequential {what} "
+                         f"stops by itself (cap it with --max-{unit})")
+    if not args.sequential and count is None:
+        raise UsageError(f"the following arguments are required: --{unit} (or --sequential)")
+    if cap is not None and not args.sequential:
+        raise UsageError(f"--max-{unit} needs --sequential (a fixed-N {what} runs --{unit})")
     if args.ray_address and args.backend != "ray":
         raise UsageError("--ray-address needs --backend ray")
 
@@ -64,7 +68,7 @@ def progress(quiet: bool, total: int, initial: int, unit: str = "ep"):
 
 
 def cmd_verify(args: argparse.Namespace) -> int:
-    _check_verify_args(args)
+    check_run_args(args)
     if args.backend == "process" and args.workers > 1:  # its imports beside ours (see there)
         from vlb_gym.verify.backends import start_forkserver
         start_forkserver(["vlb_gym.verify.campaign"])

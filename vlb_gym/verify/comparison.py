@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import json
 import platform
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -27,7 +26,7 @@ from .episode import EpisodeResult
 from .paired import DEFAULT_MAX_PAIRS, claim_words
 from .paired_methods import FixedPairs, PairedMethod, paired_method_named
 from .policies import PolicyRef
-from .report import failures_by_cause, one_line, replay_command, shown_path
+from .report import JsonReport, failures_by_cause, one_line, replay_command, shown_path
 from .store import ComparisonStore
 
 _STATISTICS = ("episodes", "epsilon", "delta", "seed", "method")  # a side's plan has none
@@ -211,24 +210,8 @@ def _side_summary(plan: Mapping[str, Any], episodes: list[EpisodeResult]) -> dic
             "failures_by_cause": failures_by_cause(episodes)}
 
 
-class ComparisonReport(Mapping[str, Any]):
-    """A comparison's report: a read-only mapping of its JSON keys, :meth:`summary` in words."""
-
-    def __init__(self, data: dict[str, Any], store: str | None = None):
-        self._data = data
-        self.store = store
-
-    def __getitem__(self, key: str) -> Any:
-        return self._data[key]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._data)
-
-    def __len__(self) -> int:
-        return len(self._data)
-
-    def to_json(self) -> str:
-        return json.dumps(self._data, indent=2) + "\n"
+class ComparisonReport(JsonReport):
+    """A comparison's report: its JSON keys, with :meth:`summary` in words."""
 
     @classmethod
     def build(cls, plan: dict[str, Any], results: Sequence[PairResult], seconds: float,

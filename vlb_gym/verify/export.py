@@ -8,6 +8,7 @@ line is a campaign that was killed; ``complete: false`` one that was interrupted
 
 from __future__ import annotations
 
+import contextlib
 import json
 from pathlib import Path
 from typing import Any
@@ -41,18 +42,15 @@ class EpisodesExport:
 
     def close(self, complete: bool) -> None:
         """Write the closing line (if the file can still be written) and close the file."""
-        try:
-            if not complete:  # counted in the file: Ctrl-C may fall between a write and the count
-                self._file.flush()
-                self.written = self.path.read_bytes().count(b'\n{"record":"episode"')
-            self._line({"record": "end", "complete": complete, "episodes": self.written})
-        except OSError:  # already said by the write that failed
-            pass
-        finally:
+        with contextlib.suppress(OSError):  # a write that fails has said so already
             try:
-                self._file.close()
-            except OSError:
-                pass
+                if not complete:  # counted in the file: Ctrl-C may fall between a write and
+                    self._file.flush()  # the count
+                    self.written = self.path.read_bytes().count(b'\n{"record":"episode"')
+                self._line({"record": "end", "complete": complete, "episodes": self.written})
+            finally:
+                with contextlib.suppress(OSError):
+                    self._file.close()
 
 
 def read_export(path: Path) -> tuple[dict[str, Any], list[EpisodeResult], dict[str, Any] | None]:

@@ -64,12 +64,9 @@ def replay_command(policy: Mapping[str, Any], env_id: str, env_kwargs: Mapping[s
     return shlex.join(words)
 
 
-class Report(Mapping[str, Any]):
-    """A campaign's report: a read-only mapping of its JSON keys (those of ARCHITECTURE.md and
-    more), with :meth:`summary` in words and :meth:`replay_command` for any episode.
-
-    ``store`` is the path of the campaign's store, if it has one: replay hints then name it.
-    """
+class JsonReport(Mapping[str, Any]):
+    """A report as a read-only mapping of its JSON keys; ``store`` is the path of the store it
+    was run with or rebuilt from, if any."""
 
     def __init__(self, data: dict[str, Any], store: str | None = None):
         self._data = data
@@ -86,6 +83,13 @@ class Report(Mapping[str, Any]):
 
     def to_json(self) -> str:
         return json.dumps(self._data, indent=2) + "\n"
+
+
+class Report(JsonReport):
+    """A campaign's report: its JSON keys (those of ARCHITECTURE.md and more), with
+    :meth:`summary` in words and :meth:`replay_command` for any episode (naming the store,
+    if it has one).
+    """
 
     # -- building -----------------------------------------------------------------------------
     @classmethod
