@@ -100,7 +100,8 @@ def test_a_registered_policy_kind_runs_like_any_other():
     register_policy_loader("sense-3", SenseLoader())
     with Campaign(CampaignConfig(GRID, PolicyRef("sense-3", "x"), 5)) as campaign:
         report = campaign.run(backend="serial")
-        assert campaign.plan["policy"] == {"kind": "sense-3", "ref": "x", "library": None}
+        assert campaign.plan.to_dict()["policy"] == {"kind": "sense-3", "ref": "x",
+                                                     "library": None}
     assert report["successes"] == 5 and report["mean_primitives"] == 3
     assert report.replay_command(0, 1) is None  # 'vlb replay' has no option for this kind
 
@@ -108,10 +109,12 @@ def test_a_registered_policy_kind_runs_like_any_other():
 def test_the_export_has_a_header_and_a_closing_line(tmp_path):
     path = tmp_path / "e.jsonl"
     records = [EpisodeResult(i, 10 + i, 1, True, 2, 0, None, 0.1) for i in range(3)]
-    export = EpisodesExport(path, {"episodes": 5})
+    with Campaign(CampaignConfig(GRID, "explore_until_goal", 5)) as campaign:
+        plan = campaign.plan
+    export = EpisodesExport(path, plan)
     for record in records:
         export.add(record)
-    assert read_export(path) == ({"episodes": 5}, records, None)  # killed: no closing line
+    assert read_export(path) == (plan, records, None)  # killed: no closing line
     export.close(complete=False)
     assert read_export(path)[2] == {"complete": False, "episodes": 3}
     with pytest.raises(FileExistsError):

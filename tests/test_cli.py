@@ -42,7 +42,7 @@ def test_verify_paper_campaign_with_report(tmp_path):
     report = json.loads(report_path.read_text())
     assert report["episodes"] == 100 and report["failures"] == 0 and report["seed"] == 0
     plan, episodes, end = read_export(stream)
-    assert plan["episodes"] == 100 and plan["policy"]["ref"] == "find_goal_and_oscillate"
+    assert plan.episodes == 100 and plan.policy.ref == "find_goal_and_oscillate"
     assert sorted(r.index for r in episodes) == list(range(100))
     assert all(r.rho == 1 and len(r.steps) == r.primitives > 0 for r in episodes)
     assert all(s["certificate"] and s["node"] in (

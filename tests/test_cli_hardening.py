@@ -312,7 +312,7 @@ def test_ctrl_c_keeps_the_episodes_and_prints_one_line(signum, tmp_path):
     assert not left
     assert "Traceback" not in err and err.count("\n") == 1, err
     assert err == f"vlb verify: interrupted; {len(episodes)} episode(s) written to {stream}\n"
-    assert 0 < len(episodes) < 100000 and plan["episodes"] == 100000
+    assert 0 < len(episodes) < 100000 and plan.episodes == 100000
     assert end == {"complete": False, "episodes": len(episodes)}
     assert all(r.rho == 1 for r in episodes)
 

@@ -155,14 +155,14 @@ def test_the_guarantee_names_the_physics_so_a_store_of_other_physics_is_refused(
             return campaign.plan
 
     default, plain = plan({}), plan(PLAIN_PHYSICS)
-    assert default["sampling_distribution"].endswith(
+    assert default.sampling_distribution.endswith(
         "simulated with 4 ms steps, CG capped at 20 iterations (tolerance 1e-05), island "
         "sleeping under 0.03 m/s")
-    assert "CG capped at 30 iterations (tolerance 1e-06), no sleeping" in plain[
-        "sampling_distribution"]
+    assert "CG capped at 30 iterations (tolerance 1e-06), no sleeping" in \
+        plain.sampling_distribution
     store = CampaignStore(tmp_path / "s.db")
     try:
-        store.start({**plain, "env_kwargs": {}})  # as a store made before the defaults changed
+        store.start(dataclasses.replace(plain, env_kwargs={}))  # before the defaults changed
         with pytest.raises(StoreError, match="sampling_distribution"):
             store.start(default)
     finally:

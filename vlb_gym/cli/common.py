@@ -10,9 +10,12 @@ import os
 import sys
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import gymnasium as gym
+
+if TYPE_CHECKING:
+    from vlb_gym.verify.records import Plan
 
 
 class UsageError(Exception):
@@ -301,7 +304,7 @@ def read_store(path: str):
         raise UsageError(str(exc)) from None
 
 
-def untrusted_options(store: str, plan: dict[str, Any], args: argparse.Namespace
+def untrusted_options(store: str, plan: Plan, args: argparse.Namespace
                       ) -> list[str]:
     """What of the campaign stored in ``store`` is code that the command line does not name
     again."""

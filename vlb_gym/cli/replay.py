@@ -54,15 +54,15 @@ def _replay_config(args: argparse.Namespace):
         raise UsageError(f"{args.target}: the store holds no campaign yet")
     if stored is None:
         raise UsageError(f"{args.target}: episode {args.episode} is not stored ({count} of "
-                         f"{plan['episodes']} episodes are, indices 0 to {plan['episodes'] - 1})")
+                         f"{plan.episodes} episodes are, indices 0 to {plan.episodes - 1})")
     untrusted = untrusted_options(args.target, plan, args)
     if untrusted:
         raise UsageError(f"{args.target}: replaying would run code the store names; a store is "
                          f"data, so name it again to trust it: {' '.join(untrusted)}")
-    config = CampaignConfig.from_plan(plan)
+    config = plan.config()
     if args.keep_going:
         config = dataclasses.replace(config, stop_on_failure=False)
-    return config, stored.seed, (stored, plan["content_sha256"])
+    return config, stored.seed, (stored, plan.content_sha256)
 
 
 def cmd_replay(args: argparse.Namespace) -> int:

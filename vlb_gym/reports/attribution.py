@@ -12,7 +12,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import PurePath
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from vlb_gym.verify.records import Plan
 
 
 @dataclass
@@ -29,14 +32,14 @@ class NodeStats:
         self.approximate = self.approximate or other.approximate
 
 
-def plan_behaviors(plan: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+def plan_behaviors(plan: Plan) -> dict[str, dict[str, Any]]:
     """The behavior specs a campaign plan records, by source (none for a trained agent)."""
-    return dict((plan.get("policy_content") or {}).get("behaviors") or {})
+    return dict(plan.policy_content.get("behaviors") or {})
 
 
-def is_agent(plan: Mapping[str, Any]) -> bool:
+def is_agent(report: Mapping[str, Any]) -> bool:
     """Whether the campaign verified a trained agent rather than a behavior graph."""
-    return (plan.get("policy") or {}).get("kind", "behavior") != "behavior"
+    return report["policy"]["kind"] != "behavior"
 
 
 def _stem(ref: str) -> str:

@@ -11,6 +11,7 @@ import numpy as np
 
 from vlb_gym.verify import bounds
 from vlb_gym.verify.methods import method_named
+from vlb_gym.verify.records import Plan
 
 from . import attribution, graph, plots
 from .document import (Block, Code, Document, Figure, Gallery, Heading, Inline, Paragraph,
@@ -217,11 +218,11 @@ def failure_blocks(report: dict[str, Any], episodes: list[dict[str, Any]],
     return blocks
 
 
-def graph_blocks(report: dict[str, Any], plan: dict[str, Any],
+def graph_blocks(report: dict[str, Any], plan: Plan,
                  episodes: list[dict[str, Any]]) -> list[Block]:
     """Section 4: the behavior graph and its sub-behaviors, coloured by failed certificates."""
     blocks: list[Block] = [Heading(2, "The behavior graph")]
-    if attribution.is_agent(plan):
+    if attribution.is_agent(report):
         return blocks + [Paragraph(["A trained RL agent (", Code(str(report.get("behavior"))),
                                     ") was verified, not a behavior graph: there is no graph to "
                                     "draw."])] + primitive_table(episodes)
@@ -332,24 +333,24 @@ def frame_blocks(frames: dict[str, list[np.ndarray]] | None) -> list[Block]:
     return blocks
 
 
-def provenance_blocks(report: dict[str, Any], plan: dict[str, Any]) -> list[Block]:
+def provenance_blocks(report: dict[str, Any], plan: Plan) -> list[Block]:
     """Section 8: what ran, where, from which files."""
     def js(value: Any) -> Code:
         return Code(json.dumps(value, sort_keys=True, default=str))
 
     rows: list[list[Any]] = [
-        ["environment", Code(str(report.get("env_id", plan.get("env_id"))))],
-        ["environment kwargs", js(plan.get("env_kwargs", report.get("env_kwargs", {})))],
-        ["environment modules", js(plan.get("env_modules", report.get("env_modules", [])))],
+        ["environment", Code(plan.env_id)],
+        ["environment kwargs", js(plan.env_kwargs)],
+        ["environment modules", js(plan.env_modules)],
         ["trained agent" if attribution.is_agent(report) else "behavior",
          Code(str(report.get("behavior")))],
-        ["content sha256", Code(str(plan.get("content_sha256", "not recorded")))],
+        ["content sha256", Code(plan.content_sha256)],
         ["root seed", Code(str(report.get("seed")))],
-        ["stop on first failure", str(plan.get("stop_on_failure", "not recorded"))],
+        ["stop on first failure", str(plan.stop_on_failure)],
         ["sampling distribution", str(report.get("sampling_distribution", "not recorded"))],
     ]
     rows += [[f"version: {name}", Code(str(version))]
-             for name, version in sorted((plan.get("versions") or {}).items())]
+             for name, version in sorted(plan.versions.items())]
     if report.get("machine"):
         workers = report.get("workers")
         rows.append(["machine", report["machine"] if workers is None
@@ -357,7 +358,7 @@ def provenance_blocks(report: dict[str, Any], plan: dict[str, Any]) -> list[Bloc
     return [Heading(2, "Provenance"), Table(["item", "value"], rows)]
 
 
-def build_document(report: dict[str, Any], episodes: list[dict[str, Any]], plan: dict[str, Any],
+def build_document(report: dict[str, Any], episodes: list[dict[str, Any]], plan: Plan,
                    frames: dict[str, list[np.ndarray]] | None = None,
                    store_path: str | None = None) -> Document:
     """The whole report."""

@@ -11,11 +11,13 @@ import numpy as np
 from vlb_gym.core.files import write_atomic
 
 from . import html, markdown
+from vlb_gym.verify.records import Plan
+
 from .content import build_document
 
 
 def write_report_dir(out_dir: Path, report: dict[str, Any], episodes: list[dict[str, Any]],
-                     plan: dict[str, Any], frames: dict[str, list[np.ndarray]] | None = None,
+                     plan: Plan, frames: dict[str, list[np.ndarray]] | None = None,
                      store_path: str | None = None) -> list[Path]:
     """Write the report of a finished campaign into ``out_dir`` and return the files written.
 

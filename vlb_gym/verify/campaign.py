@@ -21,7 +21,7 @@ import json
 import platform
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
 import gymnasium as gym
@@ -33,8 +33,9 @@ from vlb_gym.wrappers.robustness import RobustnessWrapper
 
 from . import backends
 from .episode import EpisodeResult, Policy, run_episode
-from .methods import FixedN, Method, method_named
-from .policies import PolicyRef, policy_loader
+from .methods import Method, method_named
+from .policies import policy_loader
+from .records import CampaignConfig, Plan, plan_from_json
 from .report import Report
 from .store import CampaignStore, StoreError
 
@@ -54,50 +55,6 @@ class Decides(Protocol):
 
     @property
     def decided(self) -> bool: ...
-
-
-@dataclass(frozen=True)
-class CampaignConfig:
-    """Everything that defines a campaign, fixed before it starts. ``policy`` is a
-    :class:`~.policies.PolicyRef`; a string names a behavior (a name or a JSON file).
-    ``method`` names the statistical method (:data:`~.methods.METHODS`: ``"fixed-N"`` runs all
-    N episodes, ``"sequential"`` stops when its anytime-valid test decides); ``episodes`` is N
-    (at most N for a method that stops early), by default the method's own."""
-
-    env_id: str
-    policy: PolicyRef | str
-    episodes: int | None = None
-    epsilon: float = 0.05
-    delta: float = 0.05
-    seed: int = 0
-    env_kwargs: dict[str, Any] = field(default_factory=dict)
-    stop_on_failure: bool = True
-    env_modules: tuple[str, ...] = ()  # modules that register the env (imported in workers too)
-    method: str = FixedN.name
-
-    def __post_init__(self) -> None:
-        if isinstance(self.policy, str):
-            object.__setattr__(self, "policy", PolicyRef("behavior", self.policy))
-        object.__setattr__(self, "env_modules", tuple(self.env_modules))
-        for name in ("epsilon", "delta"):
-            value = getattr(self, name)
-            if not 0 < value < 1:
-                raise ValueError(f"{name} must lie strictly between 0 and 1 (got {value!r})")
-        method = method_named(self.method)
-        if self.episodes is None:
-            object.__setattr__(self, "episodes", method.default_episodes(self.epsilon,
-                                                                         self.delta))
-        if not isinstance(self.episodes, int) or self.episodes < 1:
-            raise ValueError(f"episodes must be a positive integer (got {self.episodes!r})")
-        if not isinstance(self.seed, int) or self.seed < 0:
-            raise ValueError(f"seed must be a non-negative integer (got {self.seed!r})")
-
-    @classmethod
-    def from_plan(cls, plan: dict[str, Any]) -> CampaignConfig:
-        """The config a stored plan was made from."""
-        names = {f.name for f in dataclasses.fields(cls)}
-        values = {k: v for k, v in plan.items() if k in names}
-        return cls(**{**values, "policy": PolicyRef(**plan["policy"])})
 
 
 def episode_seed(campaign_seed: int, index: int) -> int:
@@ -146,12 +103,12 @@ class Campaign:
         self.env, self.policy = build(config)
         self.files = loader.files(config.policy, self.policy)  # the user's inputs
         content = loader.content(config.policy, self.policy)
-        plan = {**dataclasses.asdict(config), "content_sha256": content.pop("sha256"),
-                "policy_content": content,
-                "sampling_distribution": self.env.unwrapped.sampling_distribution(),
-                "versions": {"vlb_gym": vlb_gym.__version__, "gymnasium": gym.__version__,
-                             "numpy": np.__version__, "python": platform.python_version()}}
-        self.plan: dict[str, Any] = json.loads(json.dumps(plan))  # as stored: tuples are lists
+        self.plan: Plan = plan_from_json(json.dumps({  # as stored: tuples are lists
+            **dataclasses.asdict(config), "content_sha256": content.pop("sha256"),
+            "policy_content": content,
+            "sampling_distribution": self.env.unwrapped.sampling_distribution(),
+            "versions": {"vlb_gym": vlb_gym.__version__, "gymnasium": gym.__version__,
+                         "numpy": np.__version__, "python": platform.python_version()}}))
 
     def __enter__(self) -> Campaign:
         return self
@@ -343,7 +300,7 @@ def report_from_store(store: CampaignStore) -> Report:
     plan = store.plan()
     if plan is None:
         raise StoreError(f"{store.path}: the store holds no campaign yet")
-    results = stored_prefix(store, method_named(plan["method"]))
+    results = stored_prefix(store, method_named(plan.method))
     if not results:
         raise StoreError(f"{store.path}: no episode is stored yet")
     return Report.build(plan, results, sum(r.seconds for r in results), None, None,

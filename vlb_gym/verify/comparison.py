@@ -16,7 +16,7 @@ import dataclasses
 import functools
 import platform
 import time
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -26,19 +26,9 @@ from .episode import EpisodeResult
 from .paired import DEFAULT_MAX_PAIRS, claim_words
 from .paired_methods import FixedPairs, PairedMethod, paired_method_named
 from .policies import PolicyRef
+from .records import ComparisonPlan, PairResult, Plan
 from .report import JsonReport, failures_by_cause, one_line, replay_command, shown_path
 from .store import ComparisonStore
-
-_STATISTICS = ("episodes", "epsilon", "delta", "seed", "method")  # a side's plan has none
-
-
-@dataclass(frozen=True)
-class PairResult:
-    """Pair ``index``: episode ``index`` of A and of B (the same reset seed)."""
-
-    index: int
-    a: EpisodeResult
-    b: EpisodeResult
 
 
 @dataclass(frozen=True)
@@ -116,11 +106,9 @@ class Comparison:
             self.sides[0].close()
             raise
         self.files = [path for side in self.sides for path in side.files]
-        self.plan: dict[str, Any] = {
-            "env_id": config.env_id, "pairs": config.pairs, "margin": config.margin,
-            "alpha": config.alpha, "seed": config.seed, "method": config.method,
-            **{name: {k: v for k, v in side.plan.items() if k not in _STATISTICS}
-               for name, side in zip("ab", self.sides)}}
+        self.plan = ComparisonPlan(config.env_id, self.sides[0].plan, self.sides[1].plan,
+                                   config.pairs, config.margin, config.alpha, config.seed,
+                                   config.method)
 
     def __enter__(self) -> Comparison:
         return self
@@ -136,9 +124,9 @@ class Comparison:
         """What differs between the sides' envs: their pairs share reset seeds, not the env
         (the kwargs, else the sampling distribution)."""
         a, b = (side.plan for side in self.sides)
-        if a["env_kwargs"] != b["env_kwargs"]:
-            return [f"env kwargs: A {a['env_kwargs']!r}, B {b['env_kwargs']!r}"]
-        if a["sampling_distribution"] != b["sampling_distribution"]:
+        if a.env_kwargs != b.env_kwargs:
+            return [f"env kwargs: A {a.env_kwargs!r}, B {b.env_kwargs!r}"]
+        if a.sampling_distribution != b.sampling_distribution:
             return ["sampling distributions (see the report)"]
         return []
 
@@ -199,11 +187,12 @@ def _lightened(pair: PairResult) -> PairResult:
     return PairResult(pair.index, lightened(pair.a), lightened(pair.b))
 
 
-def _side_summary(plan: Mapping[str, Any], episodes: list[EpisodeResult]) -> dict[str, Any]:
+def _side_summary(plan: Plan, episodes: list[EpisodeResult]) -> dict[str, Any]:
     successes = sum(r.success for r in episodes)
-    return {"policy": plan["policy"], "env_kwargs": plan["env_kwargs"],
-            "env_modules": plan["env_modules"],
-            "sampling_distribution": plan["sampling_distribution"], "content_sha256": plan["content_sha256"], "successes": successes,
+    recorded = plan.to_dict()
+    return {**{key: recorded[key] for key in ("policy", "env_kwargs", "env_modules",
+                                              "sampling_distribution", "content_sha256")},
+            "successes": successes,
             "failures": len(episodes) - successes,
             "mean_primitives": (sum(r.primitives for r in episodes) / len(episodes))
             if episodes else 0.0,
@@ -214,30 +203,29 @@ class ComparisonReport(JsonReport):
     """A comparison's report: its JSON keys, with :meth:`summary` in words."""
 
     @classmethod
-    def build(cls, plan: dict[str, Any], results: Sequence[PairResult], seconds: float,
+    def build(cls, plan: ComparisonPlan, results: Sequence[PairResult], seconds: float,
               workers: int | None, backend: str | None = "process", store: str | None = None,
               ran: int | None = None) -> ComparisonReport:
         """The report of the comparison of ``plan`` from its ``results`` (those its method
         used, in index order)."""
-        method = paired_method_named(plan["method"])(plan["margin"], plan["alpha"],
-                                                     plan["pairs"])
+        method = paired_method_named(plan.method)(plan.margin, plan.alpha, plan.pairs)
         results = sorted(results, key=lambda r: r.index)
         results = results[:method.feed((r.a.success, r.b.success) for r in results)]
         counts = method.counts
         n = counts.n
         data = {
-            "env_id": plan["env_id"], "mode": method.name, "pairs": n,
-            "planned_pairs": plan["pairs"], "seed": plan["seed"], "margin": plan["margin"],
-            "alpha": plan["alpha"], "claim": claim_words(plan["margin"]),
-            "a": _side_summary(plan["a"], [r.a for r in results]),
-            "b": _side_summary(plan["b"], [r.b for r in results]),
+            "env_id": plan.env_id, "mode": method.name, "pairs": n,
+            "planned_pairs": plan.pairs, "seed": plan.seed, "margin": plan.margin,
+            "alpha": plan.alpha, "claim": claim_words(plan.margin),
+            "a": _side_summary(plan.a, [r.a for r in results]),
+            "b": _side_summary(plan.b, [r.b for r in results]),
             "counts": dataclasses.asdict(counts),
             "difference": (counts.b_only - counts.a_only) / n if n else 0.0,
             **method.claim(),
             "discordant_pairs": [{"index": r.index, "seed": r.a.seed,
                                   "succeeded": "a" if r.a.success else "b"}
                                  for r in results if r.a.success != r.b.success],
-            "sampling_distribution": plan["a"]["sampling_distribution"],
+            "sampling_distribution": plan.a.sampling_distribution,
             "wall_seconds": seconds,
             "pairs_per_second": (n if ran is None else ran) / seconds if seconds > 0 else None,
             "workers": workers, "backend": backend,
@@ -297,7 +285,7 @@ def report_from_store(store: ComparisonStore) -> ComparisonReport:
     plan = store.plan()
     if plan is None:
         raise StoreError(f"{store.path}: the store holds no comparison yet")
-    results = stored_prefix(store, paired_method_named(plan["method"]))
+    results = stored_prefix(store, paired_method_named(plan.method))
     if not results:
         raise StoreError(f"{store.path}: no pair is stored yet")
     return ComparisonReport.build(plan, results, sum(r.a.seconds + r.b.seconds

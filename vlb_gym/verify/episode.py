@@ -5,13 +5,14 @@ from __future__ import annotations
 import time
 import traceback
 from collections.abc import Callable
-from dataclasses import dataclass, field, fields
 from typing import Any, Protocol
 
 import numpy as np
 
 from vlb_gym.core.runtime import failure_cause
 from vlb_gym.wrappers.robustness import RobustnessWrapper, certificate_cause
+
+from .records import EpisodeResult, Step
 
 
 class Policy(Protocol):
@@ -28,59 +29,6 @@ class Policy(Protocol):
 
     def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
                 deterministic: bool = True) -> tuple[np.ndarray | None, Any]: ...
-
-
-STEP_KEYS = ("primitive", "node", "param", "certificate", "reason", "cause")
-
-
-@dataclass(frozen=True)
-class EpisodeResult:
-    """One episode's record, the same from the runner to the store, the JSONL export and the
-    report: rho_B, how it came about, and enough to replay it (``seed``).
-
-    ``steps`` holds one dict per primitive run, with :data:`STEP_KEYS` (``reason`` and ``cause``
-    are None where the certificate held); ``start`` is the env's ``reset`` info (a summary of
-    the sampled start); ``error`` the traceback when the policy or the env raised.
-    """
-
-    index: int
-    seed: int
-    rho: int
-    finished: bool
-    primitives: int
-    failed_certificates: int
-    reason: str | None
-    seconds: float
-    cause: str | None = None  # the failure's class, for grouping (see failure_cause)
-    steps: tuple[dict[str, Any], ...] = ()
-    start: dict[str, Any] = field(default_factory=dict)
-    error: str | None = None
-
-    @property
-    def success(self) -> bool:
-        return self.rho > 0
-
-    def to_dict(self) -> dict[str, Any]:
-        """The record as JSON data (shared, not copied: steps and start are plain data)."""
-        record = {name: getattr(self, name) for name in _FIELD_NAMES}
-        record["steps"] = list(self.steps)
-        return record
-
-    @classmethod
-    def from_dict(cls, record: dict[str, Any]) -> EpisodeResult:
-        """The result a :meth:`to_dict` record (or its JSON) holds; unknown keys are ignored."""
-        known = {k: v for k, v in record.items() if k in _FIELDS}
-        known["steps"] = tuple(known.get("steps", ()))
-        return cls(**known)
-
-    def same_outcome(self, other: EpisodeResult) -> bool:
-        """Whether ``other`` is this episode again: everything but the wall time and the
-        traceback's file paths."""
-        ignore = {"seconds", "error"}
-        mine, theirs = self.to_dict(), other.to_dict()
-        return ({k: v for k, v in mine.items() if k not in ignore}
-                == {k: v for k, v in theirs.items() if k not in ignore}
-                and (self.error is None) == (other.error is None))
 
 
 _NUMBERS = (int, float, bool)
@@ -102,7 +50,7 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def step_record(info: dict[str, Any], node: str | None) -> dict[str, Any]:
+def step_record(info: dict[str, Any], node: str | None) -> Step:
     """The stored record of one step's ``info``."""
     held = bool(info["certificate"])
     return {"primitive": info["primitive"], "node": node, "param": _plain(info["param"]),
@@ -135,7 +83,7 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     if max_primitives is not None and (not isinstance(max_primitives, int) or max_primitives < 0):
         raise ValueError(f"max_primitives must be a non-negative integer (got {max_primitives!r})")
     started = time.perf_counter()
-    steps: list[dict[str, Any]] = []
+    steps: list[Step] = []
     start: dict[str, Any] = {}
     error = None
     try:
@@ -178,6 +126,4 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
 
 
 _MAX_TRACEBACK = 8000  # characters of a traceback kept (its end: where it was raised)
-_FIELD_NAMES = tuple(f.name for f in fields(EpisodeResult))
-_FIELDS = frozenset(_FIELD_NAMES)
 

@@ -15,18 +15,18 @@ from typing import Any
 
 from vlb_gym.core.files import OutputFileError
 
-from .episode import EpisodeResult
+from .records import EpisodeResult, Plan, plan_from_json
 
 
 class EpisodesExport:
     """Writes the export at ``path`` (an existing file only with ``overwrite``)."""
 
-    def __init__(self, path: Path, plan: dict[str, Any], overwrite: bool = False):
+    def __init__(self, path: Path, plan: Plan, overwrite: bool = False):
         path.parent.mkdir(parents=True, exist_ok=True)
         self.path = path
         self.written = 0
         self._file = open(path, "w" if overwrite else "x")
-        self._line({"record": "plan", "plan": plan})
+        self._line({"record": "plan", "plan": plan.to_dict()})
 
     def _line(self, data: dict[str, Any]) -> None:
         try:
@@ -53,7 +53,7 @@ class EpisodesExport:
                     self._file.close()
 
 
-def read_export(path: Path) -> tuple[dict[str, Any], list[EpisodeResult], dict[str, Any] | None]:
+def read_export(path: Path) -> tuple[Plan, list[EpisodeResult], dict[str, Any] | None]:
     """The plan, the episodes and the closing line (None if the campaign was killed) of an
     export."""
     plan, episodes, end = None, [], None
@@ -61,7 +61,7 @@ def read_export(path: Path) -> tuple[dict[str, Any], list[EpisodeResult], dict[s
         data = json.loads(line)
         kind = data.pop("record")
         if kind == "plan":
-            plan = data["plan"]
+            plan = plan_from_json(json.dumps(data["plan"]))
         elif kind == "episode":
             episodes.append(EpisodeResult.from_dict(data))
         else:

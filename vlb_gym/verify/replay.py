@@ -17,6 +17,7 @@ import numpy as np
 from .campaign import CampaignConfig, build
 from .episode import EpisodeResult, run_episode
 from .policies import policy_loader
+from .records import Plan
 
 
 def store_files(path: str | Path) -> list[Path]:
@@ -24,17 +25,17 @@ def store_files(path: str | Path) -> list[Path]:
     return [Path(path), Path(f"{path}-wal"), Path(f"{path}-shm")]
 
 
-def untrusted_code(plan: dict[str, Any], env_modules: Sequence[str],
+def untrusted_code(plan: Plan, env_modules: Sequence[str],
                    policy: str | None) -> list[str]:
     """The options that would name again what of the stored ``plan`` is code and that the user
     has not named (``env_modules`` they gave, the ``policy`` file they gave, if any): replaying
     a store must not import or unpickle what only the store names. A policy kind whose loader
     does not run code from its references (behaviors: data) needs nothing."""
-    missing = [f"--env-module {m}" for m in plan["env_modules"] if m not in set(env_modules)]
-    stored = plan["policy"]
-    if policy_loader(stored["kind"]).runs_code and \
-            (policy is None or str(Path(policy).resolve()) != stored["ref"]):
-        missing.append(f"--policy {stored['ref']}")
+    missing = [f"--env-module {m}" for m in plan.env_modules if m not in set(env_modules)]
+    stored = plan.policy
+    if policy_loader(stored.kind).runs_code and \
+            (policy is None or str(Path(policy).resolve()) != stored.ref):
+        missing.append(f"--policy {stored.ref}")
     return missing
 
 
@@ -66,18 +67,18 @@ def filmed(env: Any, policy: Any, config: CampaignConfig, seed: int, index: int 
         env.unwrapped.film(None)
 
 
-def episode_frames(plan: dict[str, Any], episodes: Sequence[EpisodeResult]
+def episode_frames(plan: Plan, episodes: Sequence[EpisodeResult]
                    ) -> tuple[dict[str, list[np.ndarray]], str | None]:
     """Frames of the first failed and the first successful episode of a stored campaign,
     replayed where the env renders and the policy is still the one the campaign ran; else no
     frames and why not."""
-    config = CampaignConfig.from_plan(plan)
+    config = plan.config()
     try:
         env, policy = build(config, "rgb_array")
     except (ValueError, ImportError) as exc:
         return {}, str(exc)
     try:
-        if changed_since(config, policy, plan["content_sha256"]):
+        if changed_since(config, policy, plan.content_sha256):
             return {}, "the policy changed since the campaign"
         frames = {}
         for label, success in (("failed", False), ("successful", True)):

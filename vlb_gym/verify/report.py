@@ -14,8 +14,8 @@ import shlex
 from collections.abc import Iterator, Mapping, Sequence
 from typing import Any
 
-from .episode import EpisodeResult
 from .methods import method_named
+from .records import EpisodeResult, Plan
 
 
 def one_line(text: str) -> str:
@@ -93,7 +93,7 @@ class Report(JsonReport):
 
     # -- building -----------------------------------------------------------------------------
     @classmethod
-    def build(cls, plan: dict[str, Any], results: Sequence[EpisodeResult], seconds: float,
+    def build(cls, plan: Plan, results: Sequence[EpisodeResult], seconds: float,
               workers: int | None, backend: str | None = "process", store: str | None = None,
               ran: int | None = None) -> Report:
         """The report of the campaign of ``plan`` from its episode ``results`` (complete or not:
@@ -101,27 +101,28 @@ class Report(JsonReport):
         the plan's statistical method (:mod:`.methods`). ``ran`` episodes (default: all) took
         ``seconds``, the others were resumed from a store. A report rebuilt from a store knows
         no ``workers`` or ``backend`` (None); its ``seconds`` are the episodes' own."""
-        method = method_named(plan["method"])(plan["epsilon"], plan["delta"], plan["episodes"])
+        method = method_named(plan.method)(plan.epsilon, plan.delta, plan.episodes)
         results = sorted(results, key=lambda r: r.index)
         results = results[:method.feed(r.success for r in results)]
         n, failures = len(results), method.failures
+        recorded = plan.to_dict()
         data = {
-            "env_id": plan["env_id"],
-            "behavior": plan["policy"]["ref"],
-            "policy": plan["policy"],
+            "env_id": plan.env_id,
+            "behavior": plan.policy.ref,
+            "policy": recorded["policy"],
             "mode": method.name,
             "episodes": n,
-            "planned_episodes": plan["episodes"],
+            "planned_episodes": plan.episodes,
             "successes": n - failures,
             "failures": failures,
-            "epsilon": plan["epsilon"],
-            "delta": plan["delta"],
-            "seed": plan["seed"],
+            "epsilon": plan.epsilon,
+            "delta": plan.delta,
+            "seed": plan.seed,
             **method.claim(),
-            "sampling_distribution": plan["sampling_distribution"],
-            "env_kwargs": plan["env_kwargs"],
-            "env_modules": plan["env_modules"],
-            "content_sha256": plan["content_sha256"],
+            "sampling_distribution": plan.sampling_distribution,
+            "env_kwargs": recorded["env_kwargs"],
+            "env_modules": recorded["env_modules"],
+            "content_sha256": plan.content_sha256,
             "failed_episodes": [{"index": r.index, "seed": r.seed, "reason": r.reason,
                                  "cause": r.cause} for r in results if not r.success],
             "failures_by_cause": failures_by_cause(results),

@@ -19,11 +19,11 @@ import urllib.parse
 from pathlib import Path
 from typing import Any
 
-from pydantic import BaseModel, ValidationError
+from pydantic import ValidationError
 
-from .episode import STEP_KEYS, EpisodeResult
-from .stored import (StoredComparisonPlan, StoredEpisode, StoredPair, StoredPlan,
-                     first_error)
+from .records import (ComparisonPlan, EpisodeResult, PairResult, Plan,
+                      comparison_plan_from_json, episode_from_json, first_error,
+                      pair_from_json, plan_from_json)
 
 APPLICATION_ID = 0x564C4231  # "VLB1", in the SQLite header: marks the file as a vlb-gym store
 COMPARISON_APPLICATION_ID = 0x564C4232  # "VLB2": a comparison's store
@@ -143,7 +143,7 @@ class CampaignStore:
         except sqlite3.DatabaseError as exc:
             raise StoreError(f"{self.path}: the campaign store is damaged ({exc})") from None
 
-    def plan(self) -> dict[str, Any] | None:
+    def plan(self) -> Plan | None:
         """The stored plan, checked (StoreError if it is not one vlb-gym writes)."""
         rows = self._rows("SELECT plan FROM plan WHERE id = 1")
         if not rows:
@@ -154,11 +154,9 @@ class CampaignStore:
             raise StoreError(f"{self.path}: the stored plan is not valid "
                              f"({first_error(exc)})") from None
 
-    @staticmethod
-    def _validate_plan(text: str) -> dict[str, Any]:
-        return StoredPlan.model_validate_json(text).model_dump()
+    _validate_plan = staticmethod(plan_from_json)
 
-    def start(self, plan: dict[str, Any]) -> None:
+    def start(self, plan: Plan) -> None:
         """Record ``plan``, or check that the store holds the same one (naming what differs)."""
         stored = self.plan()
         if stored is None:
@@ -166,14 +164,15 @@ class CampaignStore:
                 raise StoreError(f"{self.path}: the store holds episodes but no plan: it is "
                                  "damaged, and no campaign can continue it")
             try:
-                self.db.execute("INSERT INTO plan (id, plan) VALUES (1, ?)", (json.dumps(plan),))
+                self.db.execute("INSERT INTO plan (id, plan) VALUES (1, ?)", (plan.to_json(),))
             except sqlite3.DatabaseError as exc:
                 raise StoreError(f"{self.path}: cannot write the plan ({exc})") from None
             return
-        differ = sorted(k for k in stored.keys() | plan.keys() if stored.get(k) != plan.get(k))
+        old, new = stored.to_dict(), plan.to_dict()
+        differ = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
         if differ:
-            details = "; ".join("{}: stored {}, now {}".format(k, *parting(stored.get(k),
-                                                                          plan.get(k)))
+            details = "; ".join("{}: stored {}, now {}".format(k, *parting(old.get(k),
+                                                                          new.get(k)))
                                 for k in differ)
             raise StoreError(f"{self.path} holds another {self.holds} ({details})")
 
@@ -204,15 +203,19 @@ class CampaignStore:
             self._check_against(plan, result)
         return results
 
-    def _check_against(self, plan: dict[str, Any], result: EpisodeResult) -> None:
+    def _check_against(self, plan: Plan, result: EpisodeResult) -> None:
         """StoreError unless episode ``result`` belongs to the campaign of ``plan``."""
+        self._belongs(plan.episodes, plan.seed, result)
+
+    def _belongs(self, count: int, seed: int, result: EpisodeResult) -> None:
+        """StoreError unless ``result`` is one of the ``count`` episodes of root ``seed``."""
         from .campaign import episode_seed
 
-        if result.index >= plan["episodes"]:
+        if result.index >= count:
             raise StoreError(f"{self.path}: stored {self.unit} {result.index} is beyond the "
-                             f"{self.holds}'s {plan['episodes']} {self.unit}s: the store was "
+                             f"{self.holds}'s {count} {self.unit}s: the store was "
                              "edited or damaged")
-        if result.seed != episode_seed(plan["seed"], result.index):
+        if result.seed != episode_seed(seed, result.index):
             raise StoreError(f"{self.path}: stored {self.unit} {result.index} was reset with "
                              f"seed {result.seed}, not the one its index gives: the store was "
                              "edited or damaged")
@@ -227,38 +230,24 @@ class CampaignStore:
     def _decode(self, index: Any, text: Any) -> EpisodeResult:
         """A stored record, checked (StoreError naming the episode if it is not one vlb-gym
         writes)."""
-        return _decode_episode(self._checked(StoredEpisode, index, text))
+        return self._checked(episode_from_json, index, text)
 
-    def _checked(self, model: type[BaseModel], index: Any, text: Any) -> dict[str, Any]:
-        """Record ``index`` validated by ``model`` (StoreError naming it otherwise)."""
+    def _checked(self, read: Any, index: Any, text: Any) -> Any:
+        """Record ``index`` read by ``read`` (StoreError naming it otherwise)."""
         try:
-            record = model.model_validate_json(text).model_dump()
+            record = read(text)
         except (ValidationError, TypeError) as exc:
             message = first_error(exc) if isinstance(exc, ValidationError) else exc
             raise StoreError(f"{self.path}: stored episode {index} is not valid "
                              f"({message})") from None
-        if record["index"] != index:
+        if record.index != index:
             raise StoreError(f"{self.path}: stored episode {index} says it is episode "
-                             f"{record['index']}")
+                             f"{record.index}")
         return record
 
     @staticmethod
     def _encode(result: EpisodeResult) -> str:
-        return json.dumps(_episode_record(result), separators=(",", ":"))
-
-
-def _decode_episode(record: dict[str, Any]) -> EpisodeResult:
-    """The result a validated stored record holds (its steps as dicts again)."""
-    record["steps"] = [dict(zip(STEP_KEYS, step)) for step in record["steps"]]
-    return EpisodeResult.from_dict(record)
-
-
-def _episode_record(result: EpisodeResult) -> dict[str, Any]:
-    """An episode's record as stored: each step a list of its :data:`STEP_KEYS` values (half
-    the size of the dicts)."""
-    record = result.to_dict()
-    record["steps"] = [[step[key] for key in STEP_KEYS] for step in result.steps]
-    return record
+        return json.dumps(result.stored(), separators=(",", ":"))
 
 
 _COLUMNS = {"plan": [("id", 1), ("plan", 0)], "episodes": [("idx", 1), ("record", 0)]}
@@ -284,28 +273,23 @@ class ComparisonStore(CampaignStore):
     holds = "comparison"
     unit = "pair"
 
-    @staticmethod
-    def _validate_plan(text: str) -> dict[str, Any]:
-        return StoredComparisonPlan.model_validate_json(text).model_dump()
+    _validate_plan = staticmethod(comparison_plan_from_json)
 
-    def _check_against(self, plan: dict[str, Any], result: Any) -> None:
+    def _check_against(self, plan: ComparisonPlan, result: PairResult) -> None:
         for side in (result.a, result.b):
-            super()._check_against({"episodes": plan["pairs"], "seed": plan["seed"]}, side)
+            self._belongs(plan.pairs, plan.seed, side)
 
-    def _decode(self, index: Any, text: Any) -> Any:
-        from .comparison import PairResult
-
-        record = self._checked(StoredPair, index, text)
-        for side in ("a", "b"):
-            if record[side]["index"] != index:
+    def _decode(self, index: Any, text: Any) -> PairResult:
+        pair = self._checked(pair_from_json, index, text)
+        for side, episode in (("A", pair.a), ("B", pair.b)):
+            if episode.index != index:
                 raise StoreError(f"{self.path}: stored pair {index} holds episode "
-                                 f"{record[side]['index']} of {side.upper()}")
-        return PairResult(index, _decode_episode(record["a"]), _decode_episode(record["b"]))
+                                 f"{episode.index} of {side}")
+        return pair
 
     @staticmethod
-    def _encode(result: Any) -> str:
-        return json.dumps({"index": result.index, "a": _episode_record(result.a),
-                           "b": _episode_record(result.b)}, separators=(",", ":"))
+    def _encode(result: PairResult) -> str:
+        return json.dumps(result.stored(), separators=(",", ":"))
 
 
 _KINDS = (CampaignStore, ComparisonStore)
