@@ -10,6 +10,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from vlb_gym.core.runtime import failure_cause
+from vlb_gym.wrappers.loop import PolicyEpisode
 from vlb_gym.wrappers.robustness import RobustnessWrapper, certificate_cause
 
 from .records import EpisodeResult, Step
@@ -69,9 +70,10 @@ def interrupted(exc: BaseException) -> bool:
 
 def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 0,
                 stop_on_failure: bool = True,
-                on_step: Callable[[dict[str, Any]], None] | None = None,
+                on_step: Callable[[dict[str, Any] | None], None] | None = None,
                 max_primitives: int | None = None) -> EpisodeResult:
-    """Run ``policy`` from ``env.reset(seed=seed)`` until it finishes or the episode ends (or,
+    """Run ``policy`` from ``env.reset(seed=seed)`` until the episode ends
+    (:class:`~vlb_gym.wrappers.loop.PolicyEpisode`: the policy finished, the env ended it, or,
     with ``max_primitives``, that many primitives ran: the episode then did not finish).
 
     Any exception from the policy or the environment fails this episode (rho_B = -1, with the
@@ -80,36 +82,22 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     certificate, since rho_B is then already -1. ``on_step`` is called with None after the
     reset and with every step's info after the step.
     """
-    if max_primitives is not None and (not isinstance(max_primitives, int) or max_primitives < 0):
-        raise ValueError(f"max_primitives must be a non-negative integer (got {max_primitives!r})")
+    episode = PolicyEpisode(env, policy, stop_on_failure, max_primitives)
     started = time.perf_counter()
     steps: list[Step] = []
-    start: dict[str, Any] = {}
     error = None
+
+    def record(info: dict[str, Any], state: Any) -> None:
+        steps.append(step_record(info, state if isinstance(state, str) else None))
+        if on_step is not None:
+            on_step(info)
+
     try:
-        obs, reset_info = env.reset(seed=seed)
-        start = _plain(reset_info)
-        policy.reset(seed=seed)
+        episode.reset(seed=seed)
         if on_step is not None:
             on_step(None)
-        while env.summary is None:
-            action, state = env.act(policy, obs)
-            if action is None:
-                env.end(finished=True)
-                break
-            if stop_on_failure and env.failed:  # a sub-behavior broke its promise
-                env.end(finished=False)
-                break
-            if max_primitives is not None and len(steps) >= max_primitives:
-                env.end(finished=False, reason=f"stopped after {max_primitives} primitives",
-                        cause="primitive limit")
-                break
-            obs, _, _, _, info = env.step(action)
-            steps.append(step_record(info, state if isinstance(state, str) else None))
-            if on_step is not None:
-                on_step(info)
-            if stop_on_failure and env.failed:
-                env.end(finished=False)
+        while episode.action is not None:
+            episode.step(record)
     except Exception as exc:  # an episode's failure, never the campaign's end
         if interrupted(exc):  # Ctrl-C, not a failure: never stored as one
             raise KeyboardInterrupt from exc
@@ -118,6 +106,7 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
         env.end(finished=False, reason=f"{type(exc).__name__}: {exc} "
                                        f"({frame.filename.rsplit('/', 1)[-1]}:{frame.lineno})",
                 cause=failure_cause(exc))
+    start = _plain(episode.reset_info) if episode.reset_info is not None else {}
     summary = env.summary
     return EpisodeResult(index, int(seed), summary["rho_B"], summary["finished"],
                          summary["primitives"], summary["failed_certificates"],

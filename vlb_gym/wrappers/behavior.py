@@ -30,8 +30,9 @@ from gymnasium import spaces
 
 from vlb_gym.core.compiler import CompiledBehavior
 from vlb_gym.core.library import compile_for
-from vlb_gym.core.runtime import BehaviorPolicy, BehaviorRuntimeError, failure_cause
+from vlb_gym.core.runtime import BehaviorPolicy, BehaviorRuntimeError
 
+from .loop import PolicyEpisode
 from .robustness import RobustnessWrapper
 
 
@@ -82,44 +83,38 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
             env = robustness = RobustnessWrapper(env)
         super().__init__(env)
         self.robustness = robustness
-        self.policy = BehaviorPolicy(_compiled(behavior, env), env.unwrapped)
+        self.episode = PolicyEpisode(robustness, BehaviorPolicy(_compiled(behavior, env),
+                                                                env.unwrapped),
+                                     stop_on_failure=False, caught=(BehaviorRuntimeError,))
         self._obs: Any = None
-        self._action: np.ndarray | None = None  # the behavior's next action, if it is followed
-        self._failure: str | None = None  # why the behavior failed, if it did
-        self._cause: str | None = None  # and the class of that failure
+        self._following = False  # every action of the episode has been the behavior's
+        self._untold = False  # the episode ended at the reset and no step has said so yet
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[Any, dict[str, Any]]:
-        obs, info = self.env.reset(seed=seed, options=options)
-        self.policy.reset()
-        self._next(obs)
-        return obs, info
+        self._obs, info = self.episode.reset(seed=seed, options=options)
+        self._following, self._untold = True, self.episode.ended
+        return self._obs, info
 
     def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
+        if self._untold:  # the behavior failed at the reset: it has no action to apply
+            self._untold = False
+            return self._obs, 0.0, False, True, {**self.robustness.summary, "on_behavior": False}
         if self.robustness.summary is not None:
             raise RuntimeError("the episode has ended (rho_B is recorded); call reset()")
-        if self._failure is not None:  # at the reset: the behavior has no action to apply
-            ended = self.robustness.end(False, self._failure, self._cause)
-            return self._obs, 0.0, False, True, {**ended, "on_behavior": False}
-        on_behavior = self._action is not None and np.array_equal(action, self._action)
-        obs, reward, terminated, truncated, info = self.env.step(action)
-        self._action = None  # until the behavior, followed so far, gives its next one
-        if on_behavior and not (terminated or truncated):  # else the episode is the env's
-            self._next(obs)
-            if self._action is None:
-                finished = self._failure is None
-                terminated, truncated = finished, not finished
-                info = {**info, **self.robustness.end(finished, self._failure, self._cause)}
-        return obs, reward, terminated, truncated, {**info, "on_behavior": on_behavior}
-
-    def _next(self, obs: Any) -> None:
-        """Ask the behavior for its action on ``obs``: None when it has finished or failed."""
-        self._obs, self._failure, self._cause = obs, None, None
-        try:
-            self._action, _ = self.robustness.act(self.policy, obs)
-        except BehaviorRuntimeError as exc:
-            self._action, self._failure = None, f"BehaviorRuntimeError: {exc}"
-            self._cause = failure_cause(exc)
+        planned = self.episode.action
+        self._following = self._following and planned is not None \
+            and np.array_equal(action, planned)
+        if not self._following:  # no run of the behavior: the env's episode
+            obs, reward, terminated, truncated, info = self.env.step(action)
+            return obs, reward, terminated, truncated, {**info, "on_behavior": False}
+        obs, reward, terminated, truncated, info = self.episode.step()
+        if self.episode.ended and not (terminated or truncated):  # the behavior ended it
+            summary = self.robustness.summary
+            terminated, truncated = summary["finished"], not summary["finished"]
+            info = {**info, **summary}
+        self._obs = obs
+        return obs, reward, terminated, truncated, {**info, "on_behavior": True}
 
 
 def _batch_size(space: spaces.Space, observation: Any) -> int | None:

@@ -73,8 +73,8 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def act(self, policy: Any, observation: Any) -> tuple[Any, Any]:
         """``policy.predict(observation)``: the next action (None once it has finished) and the
         policy's state; a behavior's sub-behaviors (or itself) that have just finished hand
-        their promises to :meth:`judge`. The one decision step of every episode loop
-        (campaigns, the dry run, :class:`~vlb_gym.wrappers.behavior.BehaviorFinished`)."""
+        their promises to :meth:`judge`. The decision step of the episode loop,
+        :class:`~vlb_gym.wrappers.loop.PolicyEpisode`."""
         action, state = policy.predict(observation)
         if isinstance(policy, BehaviorPolicy):
             self.judge(policy.claims())
