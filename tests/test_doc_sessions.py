@@ -130,6 +130,23 @@ def test_every_session_of_the_page_runs_as_shown(page, tmp_path):
         check(command, *run(command, tmp_path))
 
 
+PYTHON = re.compile(r"```python\n(.*?)```", re.S)
+
+
+@pytest.mark.timeout(600)
+def test_every_example_of_the_python_page_runs(tmp_path):
+    """Each code block of the page runs as a script of its own (it prints; nothing raises)."""
+    blocks = PYTHON.findall((ROOT / "docs" / "python.md").read_text())
+    assert len(blocks) >= 3
+    for number, block in enumerate(blocks):
+        script = tmp_path / f"example_{number}.py"
+        script.write_text(block)
+        done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, text=True,
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=300,
+                              env={**os.environ, "HOME": str(tmp_path / "home")})
+        assert done.returncode == 0 and done.stdout.strip(), f"{block}\n{done.stdout}"
+
+
 def test_the_sessions_run_are_most_of_them():
     """Blocks are marked not run only where they need what the suite lacks: a language model,
     a network service, or minutes of training or simulation."""

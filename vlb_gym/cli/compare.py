@@ -21,7 +21,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     check_run_args(args, "pairs", "comparison")
     from vlb_gym.verify.comparison import Comparison, ComparisonConfig
     from vlb_gym.verify.replay import store_files
-    from vlb_gym.verify.store import ComparisonStore, StoreError
+    from vlb_gym.verify.store import StoreError
 
     config = ComparisonConfig(
         args.env_id, _side(args.a, args.a_sample, "a"), _side(args.b, args.b_sample, "b"),
@@ -47,8 +47,8 @@ def cmd_compare(args: argparse.Namespace) -> int:
         store = None
         if given:
             store = open_store(check_output(args.store, [*comparison.files, report_out], True,
-                                            "--store"), comparison, config.pairs, ComparisonStore,
-                               "compare", "pairs")
+                                            "--store"), comparison, config.pairs, "compare",
+                               "pairs")
         for caveat in comparison.method().caveats():  # after every check that can fail
             print(f"vlb compare: warning: {caveat}", file=sys.stderr)
         for difference in comparison.differences():

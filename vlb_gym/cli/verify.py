@@ -29,22 +29,15 @@ def check_run_args(args: argparse.Namespace, unit: str = "episodes",
         raise UsageError("--ray-address needs --backend ray")
 
 
-def open_store(path: Path, prepared, total: int, kind=None, command: str = "verify",
+def open_store(path: Path, prepared, total: int, command: str = "verify",
                unit: str = "episodes"):
-    """The store at ``path`` (a :class:`~vlb_gym.verify.store.CampaignStore`, or ``kind``),
-    holding (or now recording) the plan of ``prepared`` (a campaign or a comparison), whose
-    method runs ``total`` at most."""
-    from vlb_gym.verify.store import CampaignStore, StoreError
+    """The store at ``path`` holding (or now recording) the plan of ``prepared`` (a campaign or
+    a comparison), whose method runs ``total`` at most; says how much of it is stored."""
+    from vlb_gym.verify.store import StoreError
 
     try:
-        store = (kind or CampaignStore)(path)
+        store = prepared.open_store(path)
     except StoreError as exc:
-        raise UsageError(f"--store {exc}") from None
-    try:
-        store.start(prepared.plan)
-        prepared.stored(store)
-    except StoreError as exc:
-        store.close()
         raise UsageError(f"--store {exc}") from None
     if store.done():
         most = "at most " if prepared.method().stops_early else ""

@@ -21,6 +21,7 @@ import json
 import platform
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from pathlib import Path
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
@@ -171,6 +172,10 @@ class Campaign:
         return Report.build(self.plan, results, time.perf_counter() - started, workers, backend,
                             None if store is None else str(store.path), len(results) - resumed)
 
+    def open_store(self, path: str | Path) -> CampaignStore:
+        """The store at ``path``, holding this campaign (see :func:`open_store`)."""
+        return open_store(CampaignStore, path, self)
+
     def stored(self, store: CampaignStore) -> list[EpisodeResult]:
         """The episodes ``store`` holds, checked against what the method needs (StoreError):
         a method that stops early saw its episodes in index order, so they are 0..k-1."""
@@ -259,6 +264,23 @@ def feed_until_decided(stream: Iterator[R], method: Decides, todo: Iterable[int]
     finally:
         stream.close()
     return used
+
+
+S = TypeVar("S", bound=CampaignStore)
+
+
+def open_store(kind: type[S], path: str | Path, prepared: Any) -> S:
+    """The store of ``kind`` at ``path`` (made if missing, locked for this process), holding
+    the plan of ``prepared`` (a campaign or a comparison), recorded now if the store is new:
+    StoreError if it holds another plan, or records the method cannot use."""
+    store = kind(path)
+    try:
+        store.start(prepared.plan)
+        prepared.stored(store)
+    except BaseException:
+        store.close()
+        raise
+    return store
 
 
 def stored_prefix(store: CampaignStore, method: Decides) -> list[Any]:

@@ -17,11 +17,13 @@ import functools
 import platform
 import time
 from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Any
 
 from .campaign import (Campaign, CampaignConfig, Remaining, _in_process, episode_runner,
-                       feed_until_decided, lightened, preload, run_where, stored_prefix)
+                       feed_until_decided, lightened, open_store, preload, run_where,
+                       stored_prefix)
 from .episode import EpisodeResult
 from .paired import DEFAULT_MAX_PAIRS, claim_words
 from .paired_methods import FixedPairs, PairedMethod, paired_method_named
@@ -145,6 +147,10 @@ class Comparison:
                          functools.partial(pair_runner, a.config, b.config, built), indices,
                          workers, backend, ray_address,
                          [*a.env.unwrapped.preload, *b.env.unwrapped.preload])
+
+    def open_store(self, path: str | Path) -> ComparisonStore:
+        """The store at ``path``, holding this comparison (see :func:`~.campaign.open_store`)."""
+        return open_store(ComparisonStore, path, self)
 
     def stored(self, store: ComparisonStore) -> list[PairResult]:
         """The pairs ``store`` holds, checked against what the method needs (StoreError)."""
