@@ -96,6 +96,21 @@ def run(command: Command, cwd: Path) -> tuple[int, str]:
     return 0, "^C" + out
 
 
+SCRATCH = {"examples", "benchmarks", "vlb_gym", "home"}  # what the test put there itself
+
+
+def unignored(scratch: Path) -> list[str]:
+    """What the commands wrote in ``scratch`` that the repository would not ignore (where a
+    reader runs them: in a clone)."""
+    names = sorted(p.name + ("/" if p.is_dir() else "") for p in scratch.iterdir()
+                   if p.name not in SCRATCH)
+    if not names or not (ROOT / ".git").exists():
+        return []
+    done = subprocess.run(["git", "-C", str(ROOT), "check-ignore", "--no-index", *names],
+                          capture_output=True, text=True)
+    return sorted(set(names) - set(done.stdout.split()))
+
+
 def stored(store: Path) -> int:
     """How many episodes ``store`` holds so far (0 before its table exists)."""
     try:
@@ -128,6 +143,7 @@ def test_every_session_of_the_page_runs_as_shown(page, tmp_path):
         (tmp_path / shipped).symlink_to(ROOT / shipped)  # (the package itself: no shadow)
     for command in commands:
         check(command, *run(command, tmp_path))
+    assert unignored(tmp_path) == [], "what the page's commands write must be git-ignored"
 
 
 PYTHON = re.compile(r"```python\n(.*?)```", re.S)
@@ -145,6 +161,8 @@ def test_every_example_of_the_python_page_runs(tmp_path):
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=300,
                               env={**os.environ, "HOME": str(tmp_path / "home")})
         assert done.returncode == 0 and done.stdout.strip(), f"{block}\n{done.stdout}"
+        script.unlink()
+    assert unignored(tmp_path) == [], "what the page's examples write must be git-ignored"
 
 
 def test_the_sessions_run_are_most_of_them():
