@@ -148,3 +148,14 @@ def test_an_actor_that_sees_another_behavior_refuses(cluster, tmp_path):
         campaign.inputs = dataclasses.replace(campaign.inputs, files=files)
         with pytest.raises(InputsDiffer, match="content digest .* not the plan's"):
             campaign.run(1, backend="ray")
+
+
+def test_comparison_on_the_cluster(cluster):
+    from vlb_gym.verify.comparison import Comparison, ComparisonConfig
+
+    config = ComparisonConfig(GRID, "find_goal_and_oscillate",
+                              str(ROOT / "examples" / "fixed_cell.json"), 60)
+    with Comparison(config) as comparison:
+        on_ray, serial = (comparison.run(1, backend=b) for b in ("ray", "serial"))
+    assert on_ray["counts"] == serial["counts"] and on_ray["counts"]["a_only"] > 0
+    assert on_ray["discordant_pairs"] == serial["discordant_pairs"]

@@ -228,7 +228,7 @@ def add_backend_options(p: argparse.ArgumentParser, items: str) -> None:
                    "machine). Without it, a private local Ray instance is started and stopped "
                    "(RAY_ADDRESS and clusters on this machine are left alone)")
     p.add_argument("--ray-timeout", type=seconds, default=30.0, metavar="SECONDS",
-                   help="with --backend ray: give up connecting (or starting Ray) after this "
+                   help="with --backend ray: give up connecting to --ray-address after this "
                    "long, and on an actor that cannot start after twice this long")
 
 

@@ -28,6 +28,7 @@ T = TypeVar("T")
 
 _DEAD_ACTOR_WAIT = 30.0  # seconds to wait for a dead actor's finished results
 _POLL = 1.0  # seconds between looks at actors that have not started
+_RELEASE_WAIT = 5.0  # seconds to wait for the CPUs of killed actors to show free
 
 
 class _RayRunner:
@@ -186,8 +187,19 @@ class _Run:
                 self.feed(actor)
                 yield from value
         finally:
-            for actor in list(self.actors):
-                self.drop(actor)
+            self.release()
+
+    def release(self) -> None:
+        """Kill every actor, and wait (a few seconds at most) until the cluster shows their
+        CPUs free again: Ray frees them asynchronously, and a campaign started right after
+        would otherwise find the cluster short."""
+        placed = sum(actor.node is not None for actor in self.actors)
+        target = min(self.free_cpus() + placed, self.total_cpus())
+        for actor in list(self.actors):
+            self.drop(actor)
+        deadline = time.monotonic() + _RELEASE_WAIT
+        while placed and self.free_cpus() < target and time.monotonic() < deadline:
+            time.sleep(0.05)
 
     def give_up_unstarted(self) -> None:
         """Drop actors that did not start within the stall bound; ClusterError if none is
