@@ -75,3 +75,15 @@ def test_shipped_files_are_the_only_files(tmp_path):
         with pytest.raises(InputFileError, match="not among the files shipped"):
             read_limited(elsewhere)
     assert read_limited(here) == b"{}"
+
+
+def test_env_module_files_travel(tmp_path):
+    """An --env-module file edited after the plan: workers import the driver's bytes."""
+    module = tmp_path / "integrator_env.py"
+    shutil.copy(ROOT / "examples" / "integrator_env.py", module)
+    config = CampaignConfig("VLB-Integrator-v0", str(ROOT / "examples" / "integrator_reach.json"),
+                            30, env_modules=(str(module),))
+    with Campaign(config) as campaign:
+        expected = records(campaign.episodes(backend="serial"))
+        module.write_text("raise RuntimeError('edited after the plan')\n")
+        assert records(campaign.episodes(workers=2, backend="process")) == expected

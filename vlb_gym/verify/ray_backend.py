@@ -98,7 +98,6 @@ class _Run:
         elif self.workers < min(workers, self.remaining):
             NOTES.warning(f"--workers {workers} reduced to {self.workers} (the Ray cluster "
                           f"has {free} free CPU(s))")
-        self.indices = indices
         self.todo = ChunkQueue(indices, len(indices), max(self.workers, 1))
         self.actors: list[_Actor] = []
         self.owner: dict[Any, _Actor] = {}  # a chunk's ref -> its actor
