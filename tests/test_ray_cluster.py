@@ -3,9 +3,12 @@ inputs that travel with the campaign and a worker that would build something els
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import logging
+import os
 import shutil
+import signal
 import tempfile
 import time
 from pathlib import Path
@@ -59,10 +62,29 @@ def clean(config: CampaignConfig) -> list[dict]:
         return records(campaign.episodes(backend="serial"))
 
 
+def kill_node(cluster, node) -> None:
+    """The node gone as a machine goes: its Ray processes killed, its workers (which outlive
+    their raylet for a while, answering their caller directly) too."""
+    raylet = node.all_processes["raylet"][0].process.pid
+    workers = [int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()
+               and parent(p) == raylet]
+    cluster.remove_node(node, allow_graceful=False)
+    for pid in workers:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(pid, signal.SIGKILL)
+
+
+def parent(process: Path) -> int | None:
+    try:
+        return int((process / "stat").read_text().rsplit(")", 1)[1].split()[1])
+    except (OSError, IndexError, ValueError):
+        return None
+
+
 def lose_node_after(cluster, node, count: int, started=None):
-    """An on_episode callback that removes ``node`` (killed, not drained) after ``count``
-    episodes, and once ``started()`` says an actor runs there (until then each episode waits
-    a little, so that the campaign outlasts the actor's start)."""
+    """An on_episode callback that kills ``node`` after ``count`` episodes, once ``started()``
+    says an actor runs there (until then each episode waits a little, so that the campaign
+    outlasts the actor's start)."""
     seen = []
 
     def on_episode(result) -> None:
@@ -70,7 +92,7 @@ def lose_node_after(cluster, node, count: int, started=None):
         if len(seen) < count or node not in cluster.worker_nodes:
             return
         if started is None or started():
-            cluster.remove_node(node, allow_graceful=False)
+            kill_node(cluster, node)
         else:
             time.sleep(0.03)
     return on_episode
@@ -90,7 +112,7 @@ def test_lost_node_reruns_its_episodes_elsewhere(cluster, caplog):
         report = campaign.run(2, lambda r: (kept.append(r), on_episode(r)), backend="ray",
                               ray=RayOptions(stall=20))
     assert doomed not in cluster.worker_nodes
-    assert any("lost a Ray node" in m for m in caplog.messages), caplog.messages
+    assert any("lost a Ray node" in m for m in caplog.messages), "\n".join(caplog.messages)
     assert records(kept) == clean(config)
     with Campaign(config) as campaign:
         assert report["successes"] == campaign.run(1, backend="serial")["successes"]

@@ -204,7 +204,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     v.add_argument("--seed", type=count(0), default=0,
                    help="campaign seed: the episodes' reset seeds derive from it")
     v.add_argument("--workers", type=count(1), default=1, metavar="N",
-                   help="worker processes, at most one per CPU and per episode")
+                   help="worker processes, at most one per CPU and per episode (Ray: actors, "
+                   "at most one per free CPU of the cluster)")
     v.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
                    "campaign is done (replacing the file, atomically, if it exists)")
     v.add_argument("--episodes-out", metavar="PATH",

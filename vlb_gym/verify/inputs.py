@@ -18,7 +18,7 @@ import platform
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import gymnasium as gym
 import numpy as np
@@ -31,6 +31,9 @@ from vlb_gym.envs.modules import is_module_path
 
 from .backends import BackendError
 from .policies import PolicyRef
+
+if TYPE_CHECKING:
+    from .campaign import CampaignConfig
 
 
 class InputsDiffer(BackendError):
@@ -60,8 +63,9 @@ def _absolute(ref: str) -> str:
     return str(Path(ref).expanduser().resolve())
 
 
-def capture(config: Any, policy_files: list[Path], plan: Mapping[str, Any]) -> Inputs:
-    """The inputs of the campaign of ``config`` (a ``CampaignConfig``) with ``plan``, read now
+def capture(config: CampaignConfig, policy_files: list[Path], plan: Mapping[str, Any]
+            ) -> Inputs:
+    """The inputs of the campaign of ``config`` with ``plan``, read now
     from ``policy_files`` and the config's module files."""
     paths = [_absolute(str(p)) for p in policy_files]
     paths += [_absolute(m) for m in config.env_modules if is_module_path(m)]
@@ -70,7 +74,7 @@ def capture(config: Any, policy_files: list[Path], plan: Mapping[str, Any]) -> I
                   plan["sampling_distribution"], dict(plan["versions"]))
 
 
-def rebased(config: Any, inputs: Inputs) -> Any:
+def rebased(config: CampaignConfig, inputs: Inputs) -> CampaignConfig:
     """``config`` as a worker builds it: file references absolute as the driver resolved them,
     behavior names resolved in the driver's library folder."""
     ref = config.policy
@@ -102,7 +106,7 @@ class ShippedRunner:
     """A backend's ``setup``: ``runner(config, built)`` on the env and policy built from the
     shipped ``inputs`` (see the module's docstring)."""
 
-    config: Any
+    config: CampaignConfig
     inputs: Inputs
     runner: Callable[..., Callable[[int], Any]]
 

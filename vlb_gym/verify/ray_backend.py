@@ -153,6 +153,12 @@ class _Run:
             for _ in range(self.workers):
                 self.start()
             while self.remaining:
+                for actor in self.actors:  # chunks given back (a dead actor's) go out at once
+                    if actor.node is not None:
+                        self.feed(actor)
+                if not self.owner and not self.pending:
+                    raise RuntimeError(f"{self.remaining} indices left and nothing to wait for "
+                                       "(a bug of the ray backend)")
                 done, _ = self.ray.wait([*self.owner, *self.pending], num_returns=1,
                                         timeout=_POLL)
                 if not done:
@@ -233,6 +239,9 @@ class _Run:
             unfinished.append(chunk)
         self.drop(actor)
         node_lost = actor.node is not None and actor.node not in self.alive_nodes()
+        NOTES.debug(f"an actor on node {actor.node} died (node lost: {node_lost}, "
+                    f"{len(finished)} chunk(s) finished, {len(unfinished)} not): "
+                    f"{last_line(error)}")
         if node_lost:  # not the episodes' doing: they run again elsewhere, uncounted
             self.todo.extendleft(reversed(unfinished))
             if actor.node not in self.lost_nodes:
