@@ -34,7 +34,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
         stop_on_failure=not args.keep_going, env_modules=env_modules(args.env_module),
         method="sequential" if args.sequential else "fixed-N")
     workers = clamp_workers(args.workers, config.pairs, "compare", items="pair(s)") \
-        if args.backend != "ray" else args.workers
+        if args.backend != "ray" or not args.ray_address else args.workers
     try:
         comparison = Comparison(config)
     except ValueError as exc:  # errors name the files as the user did

@@ -92,8 +92,10 @@ def cmd_verify(args: argparse.Namespace) -> int:
                             env_modules=env_modules(args.env_module),
                             method="sequential" if args.sequential else "fixed-N")
     episodes = config.episodes  # the method's default where the command names none
-    workers = clamp_workers(args.workers, episodes, "verify") if args.backend != "ray" else \
-        args.workers
+    # a cluster's CPUs are known once connected (the backend clamps then, with a note); a
+    # private local instance gets this machine's
+    workers = clamp_workers(args.workers, episodes, "verify") \
+        if args.backend != "ray" or not args.ray_address else args.workers
     try:
         campaign = Campaign(config)  # checks the env and the policy before any episode
     except ValueError as exc:  # errors name the file as the user did, not as the plan keeps it
