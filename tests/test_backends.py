@@ -221,7 +221,7 @@ def ray_instance():
     import logging
 
     if not ray.is_initialized():
-        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
+        ray.init(address="local", num_cpus=2, include_dashboard=False, log_to_driver=False,
                  logging_level=logging.ERROR)
     yield ray
     ray.shutdown()

@@ -8,6 +8,7 @@ rebuilds exactly the environment it was trained for.
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import time
 from pathlib import Path
@@ -17,7 +18,7 @@ import gymnasium as gym
 import numpy as np
 
 import vlb_gym  # noqa: F401 - registers the envs
-from vlb_gym.core.files import read_json_file
+from vlb_gym.core.files import input_bytes, is_input_file, read_json_file
 
 from .configs import ALGORITHMS, TASK_IDS, AgentSpec, TaskConfig, check_observation
 from .observations import LabelImage, LabelImager
@@ -148,10 +149,11 @@ class SB3Policy:
     def __init__(self, path: str | Path, env: gym.Env, sample: bool = False):
         zip_path, _ = agent_files(path)
         self.meta = load_metadata(path)
-        if not zip_path.is_file():
+        if not is_input_file(zip_path):
             raise ValueError(f"{zip_path}: no such saved agent")
-        try:
-            self.model = _algorithm(self.meta["algorithm"]).load(zip_path, device="cpu")
+        try:  # from the bytes: a campaign's workers have them shipped, not on their disk
+            self.model = _algorithm(self.meta["algorithm"]).load(
+                io.BytesIO(input_bytes(zip_path)), device="cpu")
         except Exception as exc:  # any malformed file: SB3 raises what its readers raise
             raise ValueError(f"{zip_path}: not a saved {self.meta['algorithm']} agent "
                              f"({type(exc).__name__}: {str(exc)[:200]})") from None
@@ -261,7 +263,7 @@ class SB3Loader:
         """A digest of the saved agent and its metadata."""
         digest = hashlib.sha256()
         for path in agent_files(ref.ref):
-            digest.update(path.read_bytes())
+            digest.update(input_bytes(path))
         return {"sha256": digest.hexdigest(), "algorithm": policy.meta["algorithm"],
                 "sample": self.sample}
 

@@ -219,6 +219,38 @@ def clamp_workers(requested: int, episodes: int, command: str, option: str = "--
     return workers
 
 
+def add_backend_options(p: argparse.ArgumentParser, items: str) -> None:
+    """``--backend``, ``--ray-address`` and ``--ray-timeout``."""
+    p.add_argument("--backend", choices=["serial", "process", "ray"], default="process",
+                   help=f"where {items} run: this process, worker processes on this machine, "
+                   "or Ray actors (extra 'ray'; see docs/ray.md); results are identical "
+                   "whatever the backend")
+    p.add_argument("--ray-address", metavar="ADDRESS",
+                   help="with --backend ray: an existing cluster, HOST:PORT of its head (GCS), "
+                   "ray://HOST:10001, or auto (RAY_ADDRESS, else the cluster started on this "
+                   "machine). Without it, a private local Ray instance is started and stopped "
+                   "(RAY_ADDRESS and clusters on this machine are left alone)")
+    p.add_argument("--ray-timeout", type=seconds, default=30.0, metavar="SECONDS",
+                   help="with --backend ray: give up connecting to --ray-address after this "
+                   "long, and on an actor that cannot start after twice this long")
+
+
+def ray_options(args: argparse.Namespace, command: str):
+    """The Ray options of the command line; Ray's notes go to stderr as ``vlb COMMAND: note``."""
+    import logging
+
+    from vlb_gym.verify.ray_connect import NOTES, RayOptions
+
+    if args.ray_address and args.backend != "ray":
+        raise UsageError("--ray-address needs --backend ray")
+    if not NOTES.handlers:
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter(f"vlb {command}: note: %(message)s"))
+        NOTES.addHandler(handler)
+        NOTES.propagate = False
+    return RayOptions(args.ray_address, args.ray_timeout, 2 * args.ray_timeout)
+
+
 def add_env_module(p: argparse.ArgumentParser) -> None:
     p.add_argument("--env-module", action="append", default=[], metavar="PATH_OR_MODULE",
                    help="a Python file or module that registers your own environment (see "

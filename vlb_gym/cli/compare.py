@@ -7,9 +7,10 @@ import sys
 
 from vlb_gym.core.files import write_atomic
 
-from .common import (UsageError, add_env_kwarg, check_output, clamp_workers, count, env_kwargs,
-                     env_modules, fraction_below_one, level, named_policy)
-from .verify import check_run_args, open_store, progress
+from .common import (UsageError, add_backend_options, add_env_kwarg, check_output,
+                     clamp_workers, count, env_kwargs, env_modules, fraction_below_one, level,
+                     named_policy, ray_options)
+from .verify import backend_failed, check_run_args, open_store, progress
 
 
 def _side(ref: str, sample: bool, name: str):
@@ -19,6 +20,8 @@ def _side(ref: str, sample: bool, name: str):
 
 def cmd_compare(args: argparse.Namespace) -> int:
     check_run_args(args, "pairs", "comparison")
+    ray = ray_options(args, "compare")
+    from vlb_gym.verify.backends import BackendError
     from vlb_gym.verify.comparison import Comparison, ComparisonConfig
     from vlb_gym.verify.replay import store_files
     from vlb_gym.verify.store import StoreError
@@ -31,7 +34,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
         stop_on_failure=not args.keep_going, env_modules=env_modules(args.env_module),
         method="sequential" if args.sequential else "fixed-N")
     workers = clamp_workers(args.workers, config.pairs, "compare", items="pair(s)") \
-        if args.backend != "ray" else args.workers
+        if args.backend != "ray" or not args.ray_address else args.workers
     try:
         comparison = Comparison(config)
     except ValueError as exc:  # errors name the files as the user did
@@ -58,11 +61,13 @@ def cmd_compare(args: argparse.Namespace) -> int:
         try:
             with progress(args.quiet, config.pairs, len(store.done()) if store else 0,
                           "pair") as bar:
-                report = comparison.run(workers, bar, store, args.backend, args.ray_address)
+                report = comparison.run(workers, bar, store, args.backend, ray)
         except KeyboardInterrupt:
             pass
         except StoreError as exc:
             raise UsageError(f"--store {exc}") from None
+        except BackendError as exc:
+            raise UsageError(backend_failed(exc, store, "pair")) from None
         finally:
             if store:
                 store.close()
@@ -116,10 +121,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--store", metavar="PATH",
                    help="keep every pair in this SQLite store as it finishes; an existing store "
                    "of the same comparison is resumed")
-    c.add_argument("--backend", choices=["serial", "process", "ray"], default="process",
-                   help="where pairs run (as for vlb verify); results are identical")
-    c.add_argument("--ray-address", metavar="ADDRESS",
-                   help="with --backend ray: an existing cluster")
+    add_backend_options(c, "pairs")
     c.add_argument("--keep-going", action="store_true",
                    help="run each episode to its end even after a certificate failed")
     c.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -10,8 +10,9 @@ from pathlib import Path
 
 from vlb_gym.core.files import write_atomic
 
-from .common import (UsageError, add_env_kwarg, check_output, clamp_workers,
-                     count, env_kwargs, env_modules, level, policy_ref, probability)
+from .common import (UsageError, add_backend_options, add_env_kwarg, check_output,
+                     clamp_workers, count, env_kwargs, env_modules, level, policy_ref,
+                     probability, ray_options)
 
 def check_run_args(args: argparse.Namespace, unit: str = "episodes",
                    what: str = "campaign") -> None:
@@ -25,8 +26,6 @@ def check_run_args(args: argparse.Namespace, unit: str = "episodes",
         raise UsageError(f"the following arguments are required: --{unit} (or --sequential)")
     if cap is not None and not args.sequential:
         raise UsageError(f"--max-{unit} needs --sequential (a fixed-N {what} runs --{unit})")
-    if args.ray_address and args.backend != "ray":
-        raise UsageError("--ray-address needs --backend ray")
 
 
 def open_store(path: Path, prepared, total: int, command: str = "verify",
@@ -46,6 +45,14 @@ def open_store(path: Path, prepared, total: int, command: str = "verify",
     return store
 
 
+def backend_failed(exc: Exception, store, unit: str) -> str:
+    """The one line for a backend that could not go on, saying what the store keeps."""
+    if store is None:
+        return str(exc)
+    return (f"{exc}; the store {store.path} keeps every finished {unit} (the same command "
+            "resumes)")
+
+
 @contextlib.contextmanager
 def progress(quiet: bool, total: int, initial: int, unit: str = "ep"):
     """A progress bar on a terminal (unless ``quiet``): yields what to call per item done, or
@@ -62,6 +69,7 @@ def progress(quiet: bool, total: int, initial: int, unit: str = "ep"):
 
 def cmd_verify(args: argparse.Namespace) -> int:
     check_run_args(args)
+    ray = ray_options(args, "verify")
     if args.backend == "process" and args.workers > 1:  # its imports beside ours (see there)
         from vlb_gym.verify.backends import start_forkserver
         start_forkserver(["vlb_gym.verify.campaign"])
@@ -77,8 +85,10 @@ def cmd_verify(args: argparse.Namespace) -> int:
                             env_modules=env_modules(args.env_module),
                             method="sequential" if args.sequential else "fixed-N")
     episodes = config.episodes  # the method's default where the command names none
-    workers = clamp_workers(args.workers, episodes, "verify") if args.backend != "ray" else \
-        args.workers
+    # a cluster's CPUs are known once connected (the backend clamps then, with a note); a
+    # private local instance gets this machine's
+    workers = clamp_workers(args.workers, episodes, "verify") \
+        if args.backend != "ray" or not args.ray_address else args.workers
     try:
         campaign = Campaign(config)  # checks the env and the policy before any episode
     except ValueError as exc:  # errors name the file as the user did, not as the plan keeps it
@@ -100,6 +110,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         print(f"vlb verify: warning: {caveat}", file=sys.stderr)
     stream = EpisodesExport(export, campaign.plan, args.force) if export else None
     report = None
+    from vlb_gym.verify.backends import BackendError
     from vlb_gym.verify.store import StoreError
 
     try:
@@ -110,11 +121,13 @@ def cmd_verify(args: argparse.Namespace) -> int:
                 if bar:
                     bar(result)
 
-            report = campaign.run(workers, on_episode, store, args.backend, args.ray_address)
+            report = campaign.run(workers, on_episode, store, args.backend, ray)
     except KeyboardInterrupt:  # the workers ignore Ctrl-C; leaving the run stops them
         pass
     except StoreError as exc:  # what the stored episodes turned out to be
         raise UsageError(f"--store {exc}") from None
+    except BackendError as exc:
+        raise UsageError(backend_failed(exc, store, "episode")) from None
     finally:
         if stream:
             stream.close(complete=report is not None)
@@ -186,7 +199,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     v.add_argument("--seed", type=count(0), default=0,
                    help="campaign seed: the episodes' reset seeds derive from it")
     v.add_argument("--workers", type=count(1), default=1, metavar="N",
-                   help="worker processes, at most one per CPU and per episode")
+                   help="worker processes, at most one per CPU and per episode (Ray: actors, "
+                   "at most one per free CPU of the cluster)")
     v.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
                    "campaign is done (replacing the file, atomically, if it exists)")
     v.add_argument("--episodes-out", metavar="PATH",
@@ -196,12 +210,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     v.add_argument("--store", metavar="PATH",
                    help="keep every episode in this SQLite store as it finishes; an existing "
                    "store of the same campaign is resumed (episodes stored are not run again)")
-    v.add_argument("--backend", choices=["serial", "process", "ray"], default="process",
-                   help="where episodes run: this process, worker processes on this machine, or "
-                   "Ray tasks (extra 'ray'; a local instance, or --ray-address); results are "
-                   "identical whatever the backend")
-    v.add_argument("--ray-address", metavar="ADDRESS",
-                   help="with --backend ray: an existing cluster, e.g. ray://head:10001 or auto")
+    add_backend_options(v, "episodes")
     v.add_argument("--keep-going", action="store_true",
                    help="run each episode to its end even after a certificate failed")
     v.add_argument("--quiet", action="store_true", help="no progress bar")

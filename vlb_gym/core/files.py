@@ -10,20 +10,59 @@ leaves nothing behind.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import stat
 import tempfile
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 MAX_FILE_BYTES = 1_000_000
 MAX_JSON_DEPTH = 64
 
+_SHIPPED: list[Mapping[str, bytes]] = []  # the files of the innermost shipped() block
 
 
 class InputFileError(ValueError):
     """An input file cannot be used; the message names the file and says why."""
+
+
+@contextlib.contextmanager
+def shipped(files: Mapping[str, bytes]) -> Iterator[None]:
+    """Within the block, the user's input files are ``files`` (absolute resolved path ->
+    bytes) and no others: :func:`read_limited`, :func:`input_bytes` and :func:`is_input_file`
+    read from memory. How campaign workers read what the driver shipped, never their disk."""
+    _SHIPPED.append(files)
+    try:
+        yield
+    finally:
+        _SHIPPED.pop()
+
+
+def _shipped(path: str | os.PathLike[str]) -> bytes | None:
+    """The shipped bytes of ``path``; InputFileError inside a :func:`shipped` block that lacks
+    it, None outside any."""
+    if not _SHIPPED:
+        return None
+    data = _SHIPPED[-1].get(str(Path(path).resolve()))
+    if data is None:
+        raise InputFileError(f"{named(path)}: not among the files shipped with the campaign")
+    return data
+
+
+def is_input_file(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a regular file (inside a :func:`shipped` block: a shipped one)."""
+    if _SHIPPED:
+        return str(Path(path).resolve()) in _SHIPPED[-1]
+    return Path(path).is_file()
+
+
+def input_bytes(path: str | os.PathLike[str]) -> bytes:
+    """All the bytes of an input file the user named (an agent's zip: no size limit)."""
+    data = _shipped(path)
+    return Path(path).read_bytes() if data is None else data
 
 
 def named(path: str | os.PathLike[str]) -> str:
@@ -38,6 +77,11 @@ def read_limited(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES,
     """The bytes of ``path`` if it is a regular file of at most ``limit`` bytes."""
     path = Path(path)
     where = named(path)
+    data = _shipped(path)
+    if data is not None:
+        if len(data) > limit:
+            raise InputFileError(f"{where}: {what} is {len(data)} bytes; the limit is {limit}")
+        return data
     try:
         # O_NONBLOCK: opening a FIFO with no writer must not block; it is refused just below
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))

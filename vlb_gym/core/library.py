@@ -18,7 +18,7 @@ import gymnasium as gym
 from .compiler import CompiledBehavior, compile_behavior
 from .env import PrimitiveEnv
 from .runtime import BehaviorPolicy
-from .files import InputFileError, read_limited, write_atomic
+from .files import InputFileError, is_input_file, read_limited, write_atomic
 from .names import is_name
 from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
 
@@ -73,7 +73,7 @@ class BehaviorLibrary:
         return sorted(set(self._shipped()) | set(self.user_behaviors()))
 
     def __contains__(self, name: str) -> bool:
-        return name in self._shipped() or (self.directory / f"{name}.json").is_file()
+        return name in self._shipped() or is_input_file(self.directory / f"{name}.json")
 
     def resolve(self, ref: str, base_dir: Path | None = None
                 ) -> tuple[BehaviorSpec, str, Path | None]:
@@ -93,7 +93,7 @@ class BehaviorLibrary:
         if ref in self._shipped():
             text = resources.files(SHIPPED).joinpath(f"{ref}.json").read_bytes()
             return parse_spec(text, f"{ref}.json"), f"{ref}.json", None
-        if (self.directory / f"{ref}.json").is_file():
+        if is_input_file(self.directory / f"{ref}.json"):
             return _read(self.directory / f"{ref}.json")
         raise BehaviorSpecError(f"unknown behavior {ref!r}: known behaviors are "
                                 f"{', '.join(self.names())}; or give a path to a .json file")

@@ -17,6 +17,8 @@ from typing import Any
 
 import gymnasium as gym
 
+from vlb_gym.core.files import input_bytes
+
 _BY_PATH: dict[Path, ModuleType] = {}
 
 
@@ -39,8 +41,8 @@ def import_env_module(ref: str) -> ModuleType:
         raise ImportError(f"{ref}: not a Python module")
     module = importlib.util.module_from_spec(spec)
     sys.modules[path.stem] = module
-    try:
-        spec.loader.exec_module(module)
+    try:  # from the bytes: a campaign's workers have them shipped, not on their disk
+        exec(compile(input_bytes(path), str(path), "exec"), module.__dict__)
     except BaseException:
         del sys.modules[path.stem]
         raise

@@ -24,9 +24,12 @@ import sys
 import tempfile
 import traceback
 from collections.abc import Callable, Iterable, Iterator, Sequence, Sized
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from .chunks import ChunkQueue
+
+if TYPE_CHECKING:
+    from .ray_connect import RayOptions
 
 T = TypeVar("T")
 
@@ -41,6 +44,11 @@ GUARD_MESSAGE = (
     "process: the script runs it at module level, so every worker would run it again. A script "
     "that runs campaigns with workers needs an `if __name__ == '__main__':` guard around that "
     "code (see the multiprocessing docs, 'Safe importing of main module')")
+
+
+class BackendError(RuntimeError):
+    """A backend cannot run the work as asked (a cluster out of reach or out of workers,
+    inputs that differ on a worker); the message is one line for the user."""
 
 
 class RemoteTraceback(Exception):
@@ -111,7 +119,7 @@ def check_main_guard() -> None:
 
 
 def run_indices(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], *,
-                backend: str = "process", workers: int = 1, ray_address: str | None = None,
+                backend: str = "process", workers: int = 1, ray: RayOptions | None = None,
                 preload: Sequence[str] = (), max_deaths: int = MAX_DEATHS) -> Iterator[T]:
     """Yield ``runner(i)`` for every ``i`` in ``indices`` as they finish (in order for
     ``serial`` and for one ``process`` worker), where each worker builds ``runner = setup()``
@@ -122,9 +130,10 @@ def run_indices(setup: Callable[[], Callable[[int], T]], indices: Sequence[int],
       imports ``preload`` once; they ignore SIGINT, so Ctrl-C raises ``KeyboardInterrupt`` in
       the caller only. A script that uses it needs an ``if __name__ == '__main__':`` guard
       (without one, a clear :class:`RuntimeError` says so).
-    - ``ray``: ``workers`` Ray actors, on the cluster at ``ray_address`` or (None, with Ray not
-      yet initialised) on a local instance of ``workers`` CPUs started and stopped here; needs
-      the extra ``vlb-gym[ray]``.
+    - ``ray``: ``workers`` Ray actors (at most one per free CPU), on the Ray this process is
+      connected to, else as ``ray`` says (:class:`~.ray_connect.RayOptions`: a cluster's
+      address, or a private local instance started and stopped here); needs the extra
+      ``vlb-gym[ray]``. A cluster out of reach or out of CPUs is a :class:`BackendError`.
 
     An exception from ``setup`` or from a run is raised here as itself (the worker's traceback
     as its cause). A worker that dies mid-run is replaced and the run repeated; an index whose
@@ -145,8 +154,9 @@ def run_indices(setup: Callable[[], Callable[[int], T]], indices: Sequence[int],
     if backend == "process":
         return _process(setup, indices, workers, tuple(preload), max_deaths)
     from .ray_backend import run_on_ray  # Ray's imports only for Ray
+    from .ray_connect import RayOptions
 
-    return run_on_ray(setup, indices, workers, ray_address, max_deaths)
+    return run_on_ray(setup, indices, workers, ray or RayOptions(), max_deaths)
 
 
 def _serial(setup: Callable[[], Callable[[int], T]], indices: Iterable[int]) -> Iterator[T]:

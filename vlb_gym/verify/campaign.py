@@ -18,24 +18,23 @@ import dataclasses
 import functools
 import importlib
 import json
-import platform
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from pathlib import Path
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Protocol, TypeVar
 
-import gymnasium as gym
 import numpy as np
 
-import vlb_gym
 from vlb_gym.envs.modules import make_primitive_env
 from vlb_gym.wrappers.robustness import RobustnessWrapper
 
 from . import backends
 from .episode import EpisodeResult, Policy, run_episode
+from .inputs import Inputs, ShippedRunner, capture, versions
 from .methods import Method, method_named
 from .policies import policy_loader
+from .ray_connect import RayOptions
 from .records import CampaignConfig, Plan, plan_from_json
 from .report import Report
 from .store import CampaignStore, StoreError
@@ -108,8 +107,8 @@ class Campaign:
             **dataclasses.asdict(config), "content_sha256": content.pop("sha256"),
             "policy_content": content,
             "sampling_distribution": self.env.unwrapped.sampling_distribution(),
-            "versions": {"vlb_gym": vlb_gym.__version__, "gymnasium": gym.__version__,
-                         "numpy": np.__version__, "python": platform.python_version()}}))
+            "versions": versions()}))
+        self.inputs: Inputs = capture(config, self.files, self.plan)  # what workers build from
 
     def __enter__(self) -> Campaign:
         return self
@@ -121,14 +120,14 @@ class Campaign:
         self.env.close()
 
     def episodes(self, indices: Sequence[int] | None = None, workers: int = 1,
-                 backend: str = "process", ray_address: str | None = None
+                 backend: str = "process", ray: RayOptions | None = None
                  ) -> Iterator[EpisodeResult]:
         """Stream the results of ``indices`` (default: all N) as they finish, in index order on
         one worker. Closing the generator stops the workers."""
         indices = range(self.config.episodes) if indices is None else indices
-        return run_where(functools.partial(episode_runner, self.config),
+        return run_where(ShippedRunner(self.config, self.inputs, episode_runner),
                          functools.partial(episode_runner, self.config, (self.env, self.policy)),
-                         indices, workers, backend, ray_address, self.env.unwrapped.preload)
+                         indices, workers, backend, ray, self.env.unwrapped.preload)
 
     def method(self) -> Method:
         """A fresh instance of the campaign's statistical method."""
@@ -137,7 +136,7 @@ class Campaign:
 
     def run(self, workers: int = 1, on_episode: Callable[[EpisodeResult], None] | None = None,
             store: CampaignStore | None = None, backend: str = "process",
-            ray_address: str | None = None) -> Report:
+            ray: RayOptions | None = None) -> Report:
         """Run the campaign and return its report; ``on_episode`` sees each result as it lands.
 
         Episodes run until the statistical method (:mod:`~vlb_gym.verify.methods`) has
@@ -168,7 +167,7 @@ class Campaign:
         consumers = [f for f in (store.add if store is not None else None, on_episode) if f]
         if not method.decided:
             todo = Remaining(self.config.episodes, frozenset(r.index for r in results))
-            results += self._feed(method, todo, workers, backend, ray_address, consumers)
+            results += self._feed(method, todo, workers, backend, ray, consumers)
         return Report.build(self.plan, results, time.perf_counter() - started, workers, backend,
                             None if store is None else str(store.path), len(results) - resumed)
 
@@ -182,14 +181,14 @@ class Campaign:
         return stored_prefix(store, method_named(self.config.method))
 
     def _feed(self, method: Method, todo: Remaining, workers: int, backend: str,
-              ray_address: str | None, consumers: list[Callable[[EpisodeResult], None]]
+              ray: RayOptions | None, consumers: list[Callable[[EpisodeResult], None]]
               ) -> list[EpisodeResult]:
         def take(result: EpisodeResult) -> None:
             method.observe(result.success)
             for consume in consumers:
                 consume(result)
 
-        return feed_until_decided(self.episodes(todo, workers, backend, ray_address), method,
+        return feed_until_decided(self.episodes(todo, workers, backend, ray), method,
                                   todo, take, lightened)
 
 
@@ -221,7 +220,7 @@ def lightened(result: EpisodeResult) -> EpisodeResult:
 
 def run_where(setup: Callable[[], Callable[[int], R]],
               setup_here: Callable[[], Callable[[int], R]], indices: Sequence[int],
-              workers: int, backend: str, ray_address: str | None,
+              workers: int, backend: str, ray: RayOptions | None,
               env_preload: Sequence[str]) -> Iterator[R]:
     """Stream ``runner(i)`` for ``indices`` from the backend: ``setup_here`` (which reuses
     what this process built) when they run in this process, ``setup`` in each worker."""
@@ -230,7 +229,7 @@ def run_where(setup: Callable[[], Callable[[int], R]],
     if _in_process(workers, backend):
         return backends.run_indices(setup_here, indices, backend="serial")
     return backends.run_indices(setup, indices, backend=backend, workers=workers,
-                                ray_address=ray_address,
+                                ray=ray,
                                 preload=["vlb_gym.verify.campaign", *env_preload])
 
 

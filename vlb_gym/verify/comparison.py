@@ -25,9 +25,11 @@ from .campaign import (Campaign, CampaignConfig, Remaining, _in_process, episode
                        feed_until_decided, lightened, open_store, preload, run_where,
                        stored_prefix)
 from .episode import EpisodeResult
+from .inputs import ShippedRunner
 from .paired import DEFAULT_MAX_PAIRS, claim_words
 from .paired_methods import FixedPairs, PairedMethod, paired_method_named
 from .policies import PolicyRef
+from .ray_connect import RayOptions
 from .records import ComparisonPlan, PairResult, Plan
 from .report import JsonReport, failures_by_cause, one_line, replay_command, shown_path
 from .store import ComparisonStore
@@ -95,6 +97,17 @@ def pair_runner(a: CampaignConfig, b: CampaignConfig, built: tuple[Any, Any] | N
     return lambda index: PairResult(index, run_a(index), run_b(index))
 
 
+@dataclass(frozen=True)
+class ShippedPair:
+    """A backend's ``setup`` for pairs: both sides built from their shipped inputs."""
+
+    a: ShippedRunner
+    b: ShippedRunner
+
+    def __call__(self) -> Callable[[int], PairResult]:
+        return pair_runner(self.a.config, self.b.config, (self.a.build(), self.b.build()))
+
+
 class Comparison:
     """A comparison prepared once: both sides' campaigns (a bad file or agent fails here, before
     any pair) and the :attr:`plan`. Close it when done (or use it as a context manager)."""
@@ -137,15 +150,16 @@ class Comparison:
         return paired_method_named(config.method)(config.margin, config.alpha, config.pairs)
 
     def pairs(self, indices: Sequence[int] | None = None, workers: int = 1,
-              backend: str = "process", ray_address: str | None = None
+              backend: str = "process", ray: RayOptions | None = None
               ) -> Iterator[PairResult]:
         """Stream the pairs ``indices`` (default: all) as they finish."""
         a, b = self.sides
         indices = range(self.config.pairs) if indices is None else indices
         built = ((a.env, a.policy), (b.env, b.policy))
-        return run_where(functools.partial(pair_runner, a.config, b.config),
-                         functools.partial(pair_runner, a.config, b.config, built), indices,
-                         workers, backend, ray_address,
+        shipped = ShippedPair(*(ShippedRunner(side.config, side.inputs, episode_runner)
+                                for side in self.sides))
+        return run_where(shipped, functools.partial(pair_runner, a.config, b.config, built),
+                         indices, workers, backend, ray,
                          [*a.env.unwrapped.preload, *b.env.unwrapped.preload])
 
     def open_store(self, path: str | Path) -> ComparisonStore:
@@ -158,7 +172,7 @@ class Comparison:
 
     def run(self, workers: int = 1, on_pair: Callable[[PairResult], None] | None = None,
             store: ComparisonStore | None = None, backend: str = "process",
-            ray_address: str | None = None) -> ComparisonReport:
+            ray: RayOptions | None = None) -> ComparisonReport:
         """Run the comparison until its method decided (see :meth:`.Campaign.run`: the same
         order, store and resume rules, with pairs for episodes) and return its report."""
         if _in_process(workers, backend):
@@ -181,7 +195,7 @@ class Comparison:
 
         if not method.decided:
             todo = Remaining(self.config.pairs, frozenset(r.index for r in results))
-            results += feed_until_decided(self.pairs(todo, workers, backend, ray_address),
+            results += feed_until_decided(self.pairs(todo, workers, backend, ray),
                                           method, todo, take, _lightened)
         return ComparisonReport.build(self.plan, results, time.perf_counter() - started,
                                       workers, backend,
