@@ -218,3 +218,35 @@ def test_the_documented_evaluate_policy_example_runs_and_reads_rho(capsys):
     exec(block.split("```")[0], scope)  # noqa: S102 - the page's own example
     assert len(scope["rho"]) == 10 and set(scope["rho"]) <= {1, -1}
     assert capsys.readouterr().out.startswith("10 episodes, rho_B: [")
+
+
+class Counting(gym.Wrapper):
+    """Counts the resets and steps that reach it."""
+
+    def __init__(self, env: gym.Env):
+        super().__init__(env)
+        self.resets = self.steps = 0
+
+    def reset(self, **kwargs):
+        self.resets += 1
+        return self.env.reset(**kwargs)
+
+    def step(self, action):
+        self.steps += 1
+        return self.env.step(action)
+
+
+def test_the_wrappers_between_it_and_the_robustness_wrapper_see_every_step():
+    """An env that contains a RobustnessWrapper keeps its own wrappers around it: a step bound
+    outside it still ends the episode, and a wrapper between sees the resets and steps."""
+    counting = Counting(RobustnessWrapper(gym.make(GRID)))
+    env = BehaviorFinished(gym.wrappers.TimeLimit(counting, max_episode_steps=3), BEHAVIOR)
+    agent = BehaviorAgent(BEHAVIOR, env)
+    obs, _ = env.reset(seed=0)
+    steps, terminated, truncated = 0, False, False
+    while not (terminated or truncated):
+        obs, _, terminated, truncated, info = env.step(agent.predict(obs)[0])
+        steps += 1
+    assert (steps, truncated, info["on_behavior"]) == (3, True, True)
+    assert (counting.resets, counting.steps) == (1, 3)
+    assert info["rho_B"] == -1 and not info["finished"]

@@ -7,6 +7,7 @@ import json
 import shutil
 import sqlite3
 
+import gymnasium as gym
 import pytest
 
 from vlb_gym.cli import main
@@ -188,3 +189,42 @@ def test_report_folder_from_a_store(stored, tmp_path, capsys):
     assert json.loads(capsys.readouterr().out) == report
     (tmp_path / "file").write_text("x")
     assert main(["report", str(store), "--out", str(tmp_path / "file")]) == 2
+
+
+class ResetInfo(gym.Wrapper):
+    """Reports ``info`` at the reset (the same object each time), and appends to its list
+    at every step: what a record keeps is the start as the reset reported it."""
+
+    def __init__(self, env, info):
+        super().__init__(env)
+        self.info = info
+
+    def reset(self, **kwargs):
+        obs, _ = self.env.reset(**kwargs)
+        return obs, self.info
+
+    def step(self, action):
+        if isinstance(self.info.get("k"), list):
+            self.info["k"].append(len(self.info["k"]))
+        return self.env.step(action)
+
+
+def _episode(info):
+    from vlb_gym.core.library import load_behavior
+    from vlb_gym.verify.episode import run_episode
+    from vlb_gym.wrappers import RobustnessWrapper
+
+    env = RobustnessWrapper(ResetInfo(gym.make(GRID), info))
+    return run_episode(env, load_behavior("find_goal_and_oscillate", env), seed=3)
+
+
+def test_the_record_keeps_the_start_as_the_reset_reported_it():
+    result = _episode({"k": [0]})
+    assert result.primitives > 1 and result.start == {"k": [0]}
+
+
+def test_a_reset_info_that_cannot_be_recorded_fails_the_episode_not_the_campaign():
+    import numpy as np
+
+    result = _episode({"x": np.array(2.0)})  # a 0-d array: no JSON list
+    assert result.rho == -1 and result.reason.startswith("TypeError") and result.error

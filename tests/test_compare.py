@@ -404,3 +404,48 @@ def test_notes_come_only_when_the_command_can_run(tmp_path, capsys):
                  "--max-pairs", "3", "--b-env-kwarg", "action_noise=0.5",
                  "--report", str(behavior)]) == 2
     one_line_error(capsys, "is an input of this command")
+
+
+def _edit_comparison_plan(store, change) -> None:
+    import sqlite3
+
+    with sqlite3.connect(store) as db:
+        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
+        change(plan)
+        db.execute("UPDATE plan SET plan = ?", (json.dumps(plan),))
+    db.close()
+
+
+def test_a_store_of_the_first_comparison_format_is_read_and_resumed(tmp_path, capsys):
+    """Stores written before each side's plan was a whole campaign plan (the sides held only
+    what they are run on) are read, reported and resumed alike."""
+    store = sequential_store(tmp_path)
+    capsys.readouterr()
+    assert main(["report", str(store), "--json"]) == 0
+    before = json.loads(capsys.readouterr().out)
+
+    def first_format(plan):
+        for side in ("a", "b"):
+            for key in ("env_id", "episodes", "epsilon", "delta", "seed", "method"):
+                del plan[side][key]
+    _edit_comparison_plan(store, first_format)
+    assert main(["report", str(store), "--json"]) == 0
+    again = json.loads(capsys.readouterr().out)
+    for key in ("pairs", "counts", "decision", "a", "b", "discordant_pairs"):
+        assert again[key] == before[key], key
+    assert main(["compare", GRID, "explore_until_goal", "explore_until_goal", "--sequential",
+                 "--b-env-kwarg", "max_episode_steps=10", "--store", str(store),
+                 "--quiet"]) == 0  # the same plan: resumed
+
+
+@pytest.mark.parametrize("change", [lambda p: p["a"].update(episodes=1),
+                                    lambda p: p["b"].update(seed=p["seed"] + 1),
+                                    lambda p: p["a"].update(env_id="Other-v0"),
+                                    lambda p: p["b"].update(method="sequential")])
+def test_a_side_that_is_not_the_comparisons_is_refused(tmp_path, capsys, change):
+    store = sequential_store(tmp_path)
+    _edit_comparison_plan(store, change)
+    capsys.readouterr()
+    assert main(["report", str(store)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "the stored plan is not valid" in err, err

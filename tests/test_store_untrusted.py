@@ -179,3 +179,54 @@ def test_modules_named_again_on_the_command_line_are_trusted(tmp_path, capsys):
     assert "reproduces the stored record" in capsys.readouterr().out
     assert main(["report", str(store), "--out", str(tmp_path / "r")]) == 0
     assert "no frames: replaying would run code the store names" in capsys.readouterr().err
+
+
+# -- 7. a second review, of the typed records: nothing a store leaves out is filled in ----------
+
+def edit_episode(path, index, change) -> None:
+    db = sqlite3.connect(path)
+    record = json.loads(db.execute("SELECT record FROM episodes WHERE idx = ?",
+                                   (index,)).fetchone()[0])
+    change(record)
+    db.execute("UPDATE episodes SET record = ? WHERE idx = ?", (json.dumps(record), index))
+    db.commit()
+    db.close()
+
+
+PLAN_EDITS = {
+    "episodes-null": lambda plan: plan.update(episodes=None),
+    "policy-without-library": lambda plan: plan["policy"].pop("library"),
+    "render-mode-kwarg": lambda plan: plan["env_kwargs"].update(render_mode=5),
+}
+EPISODE_EDITS = {
+    "no-steps": lambda record: record.pop("steps"),
+    "no-start": lambda record: record.pop("start"),
+    "no-cause": lambda record: record.pop("cause"),
+    "no-error": lambda record: record.pop("error"),
+    "step-as-dict": lambda record: record.update(steps=[dict(zip(
+        ("primitive", "node", "param", "certificate", "reason", "cause"), record["steps"][0]))]),
+    "rho-true": lambda record: record.update(rho=True),
+    "rho-float": lambda record: record.update(rho=float(record["rho"])),
+    "seconds-infinite": lambda record: record.update(seconds=float("inf")),
+}
+
+
+@pytest.mark.parametrize("edit", PLAN_EDITS, ids=str)
+@pytest.mark.parametrize("command", [["report"], ["replay", "--episode", "0"]],
+                         ids=lambda c: c[0])
+def test_a_plan_missing_what_a_default_would_fill_is_refused(store, edit, command, capsys):
+    edit_plan(store, PLAN_EDITS[edit])
+    capsys.readouterr()
+    assert main([command[0], str(store), *command[1:]]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "the stored plan is not valid" in err
+
+
+@pytest.mark.parametrize("edit", EPISODE_EDITS, ids=str)
+def test_a_record_missing_a_field_or_of_another_shape_is_refused(store, edit, capsys):
+    edit_episode(store, 0, EPISODE_EDITS[edit])
+    for command in (["report", str(store)], ["replay", str(store), "--episode", "0"]):
+        capsys.readouterr()
+        assert main(command) == 2, command
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "stored episode 0 is not valid" in err, err

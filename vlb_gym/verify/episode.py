@@ -85,7 +85,13 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     episode = PolicyEpisode(env, policy, stop_on_failure, max_primitives)
     started = time.perf_counter()
     steps: list[Step] = []
+    start: dict[str, Any] = {}
     error = None
+
+    def begin(info: dict[str, Any]) -> None:
+        start.update(_plain(info))  # the sampled start, as reset reported it
+        if on_step is not None:
+            on_step(None)
 
     def record(info: dict[str, Any], state: Any) -> None:
         steps.append(step_record(info, state if isinstance(state, str) else None))
@@ -93,9 +99,7 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
             on_step(info)
 
     try:
-        episode.reset(seed=seed)
-        if on_step is not None:
-            on_step(None)
+        episode.reset(seed=seed, on_reset=begin)
         while episode.action is not None:
             episode.step(record)
     except Exception as exc:  # an episode's failure, never the campaign's end
@@ -106,7 +110,6 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
         env.end(finished=False, reason=f"{type(exc).__name__}: {exc} "
                                        f"({frame.filename.rsplit('/', 1)[-1]}:{frame.lineno})",
                 cause=failure_cause(exc))
-    start = _plain(episode.reset_info) if episode.reset_info is not None else {}
     summary = env.summary
     return EpisodeResult(index, int(seed), summary["rho_B"], summary["finished"],
                          summary["primitives"], summary["failed_certificates"],

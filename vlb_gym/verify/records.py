@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import field
-from typing import Annotated, Any, Literal, TypeVar
+from typing import Annotated, Any, TypeVar
 
 from typing_extensions import TypedDict
 
@@ -93,11 +93,13 @@ class Plan(CampaignConfig):
         if "method" not in data and isinstance(data.get("sequential"), bool):
             data = dict(data)
             data["method"] = Sequential.name if data.pop("sequential") else FixedN.name
-        missing = [f.name for f in dataclasses.fields(cls) if f.name not in data]
-        if missing:
-            raise ValueError(f"no {missing[0]!r} is recorded")
-        if not isinstance(data["policy"], dict):
+        _every_field(cls, data)
+        if data["episodes"] is None:
+            raise ValueError("episodes: no number of episodes is recorded")
+        if not isinstance(data["policy"], dict) or set(data["policy"]) != _POLICY_KEYS:
             raise ValueError("policy: not a mapping of kind, ref and library")
+        if isinstance(data["env_kwargs"], dict) and "render_mode" in data["env_kwargs"]:
+            raise ValueError("env_kwargs: a campaign's kwargs never set render_mode")
         return data
 
     def __post_init__(self) -> None:
@@ -116,6 +118,17 @@ class Plan(CampaignConfig):
     def to_dict(self) -> dict[str, Any]:
         """The plan as JSON data."""
         return _PLAN.dump_python(self, mode="json")
+
+
+_POLICY_KEYS = {f.name for f in dataclasses.fields(PolicyRef)}
+
+
+def _every_field(kind: type, data: dict[str, Any]) -> None:
+    """ValueError unless a stored record of ``kind`` has every field: a default would stand
+    for something the record does not say."""
+    missing = [f.name for f in dataclasses.fields(kind) if f.name not in data]
+    if missing:
+        raise ValueError(f"no {missing[0]!r} is recorded")
 
 
 def _behaviors_valid(plan: Plan) -> None:
@@ -152,6 +165,12 @@ class Step(TypedDict):
 STEP_KEYS = tuple(Step.__annotations__)
 
 
+def _plus_or_minus_one(rho: int) -> int:
+    if rho not in (-1, 1):
+        raise ValueError(f"rho_B is +1 or -1, not {rho!r}")
+    return rho
+
+
 def _step_dicts(steps: Any) -> Any:
     """Steps as a store holds them (each a list of its :data:`STEP_KEYS` values: half the size
     of the dicts) as dicts; anything else is left to fail validation."""
@@ -173,12 +192,12 @@ class EpisodeResult:
 
     index: Count
     seed: Count
-    rho: Literal[-1, 1]
+    rho: Annotated[int, AfterValidator(_plus_or_minus_one)]
     finished: bool
     primitives: Count
     failed_certificates: Count
     reason: str | None
-    seconds: Annotated[float, Field(ge=0)]
+    seconds: Annotated[float, Field(ge=0, allow_inf_nan=False)]
     cause: str | None = None  # the failure's class, for grouping (see failure_cause)
     steps: Annotated[tuple[Step, ...], BeforeValidator(_step_dicts)] = ()
     start: dict[str, Any] = field(default_factory=dict)
@@ -238,7 +257,18 @@ def _consistent(result: EpisodeResult) -> EpisodeResult:
     return result
 
 
-CheckedEpisode = Annotated[EpisodeResult, AfterValidator(_consistent)]
+def _stored_episode(data: Any) -> Any:
+    """A stored record has every field, and its steps as lists (see :meth:`EpisodeResult.stored`)."""
+    if isinstance(data, dict):
+        _every_field(EpisodeResult, data)
+        steps = data["steps"]
+        if not isinstance(steps, list) or not all(isinstance(step, list) for step in steps):
+            raise ValueError(f"steps: a list of steps, each a list of {', '.join(STEP_KEYS)}")
+    return data
+
+
+CheckedEpisode = Annotated[EpisodeResult, BeforeValidator(_stored_episode),
+                           AfterValidator(_consistent)]
 
 
 @with_config(STRICT)
@@ -274,6 +304,32 @@ class ComparisonPlan:
     alpha: Level
     seed: Count
     method: Annotated[str, AfterValidator(_known_paired_method)]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _as_stored(cls, data: Any) -> Any:
+        """Every field recorded; sides stored before they were whole plans (their campaign's
+        env, N = pairs, seed and defaults) are made whole."""
+        if not isinstance(data, dict):
+            return data
+        _every_field(cls, data)
+        data = dict(data)
+        for name in ("a", "b"):
+            side = data[name]
+            if isinstance(side, dict) and not {"episodes", "epsilon", "delta", "seed",
+                                               "method", "env_id"} & set(side):
+                data[name] = {**side, "env_id": data["env_id"], "episodes": data["pairs"],
+                              "epsilon": CampaignConfig.epsilon,
+                              "delta": CampaignConfig.delta, "seed": data["seed"],
+                              "method": FixedN.name}
+        return data
+
+    def __post_init__(self) -> None:
+        for name, side in (("a", self.a), ("b", self.b)):
+            if (side.env_id, side.episodes, side.seed, side.method) != (
+                    self.env_id, self.pairs, self.seed, FixedN.name):
+                raise ValueError(f"{name}: not the comparison's side: a fixed-N campaign of its "
+                                 f"env, {self.pairs} episodes and seed {self.seed}")
 
     def to_json(self) -> str:
         return _COMPARISON_PLAN.dump_json(self).decode()

@@ -85,7 +85,8 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self.robustness = robustness
         self.episode = PolicyEpisode(robustness, BehaviorPolicy(_compiled(behavior, env),
                                                                 env.unwrapped),
-                                     stop_on_failure=False, caught=(BehaviorRuntimeError,))
+                                     stop_on_failure=False, caught=(BehaviorRuntimeError,),
+                                     env=self.env)  # every wrapper in between sees the steps
         self._obs: Any = None
         self._following = False  # every action of the episode has been the behavior's
         self._untold = False  # the episode ended at the reset and no step has said so yet
@@ -107,7 +108,8 @@ class BehaviorFinished(gym.Wrapper, gym.utils.RecordConstructorArgs):
             and np.array_equal(action, planned)
         if not self._following:  # no run of the behavior: the env's episode
             obs, reward, terminated, truncated, info = self.env.step(action)
-            return obs, reward, terminated, truncated, {**info, "on_behavior": False}
+            return obs, reward, terminated, truncated, {
+                **info, **self.robustness.ended_by(terminated, truncated), "on_behavior": False}
         obs, reward, terminated, truncated, info = self.episode.step()
         if self.episode.ended and not (terminated or truncated):  # the behavior ended it
             summary = self.robustness.summary

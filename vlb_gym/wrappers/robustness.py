@@ -65,10 +65,15 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             self.first_failure = (f"step {len(self.certificates)}: {info['primitive']} "
                                   f"{info['param']}: {info.get('reason', 'certificate failed')}")
             self.first_cause = certificate_cause(info)
-        if terminated or truncated:
-            info = {**info, **self.end(terminated, None if terminated else "truncated: step bound",
-                                       None if terminated else "step bound")}
-        return obs, reward, terminated, truncated, info
+        return obs, reward, terminated, truncated, {**info, **self.ended_by(terminated, truncated)}
+
+    def ended_by(self, terminated: bool, truncated: bool) -> dict[str, Any]:
+        """The episode's summary if the env ended it (here or in a wrapper outside this one):
+        terminated is finished, truncated is not (the step bound); else nothing."""
+        if not (terminated or truncated):
+            return {}
+        return self.end(terminated, None if terminated else "truncated: step bound",
+                        None if terminated else "step bound")
 
     def act(self, policy: Any, observation: Any) -> tuple[Any, Any]:
         """``policy.predict(observation)``: the next action (None once it has finished) and the
