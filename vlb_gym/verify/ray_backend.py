@@ -27,6 +27,7 @@ from .ray_connect import NOTES, ClusterError, RayOptions, session
 T = TypeVar("T")
 
 _DEAD_ACTOR_WAIT = 30.0  # seconds to wait for a dead actor's finished results
+_NODE_SETTLE = 5.0  # seconds a dead actor's node has to be declared dead (it may be dying)
 _POLL = 1.0  # seconds between looks at actors that have not started
 _RELEASE_WAIT = 5.0  # seconds to wait for the CPUs of killed actors to show free
 
@@ -118,6 +119,18 @@ class _Run:
 
     def alive_nodes(self) -> set[str]:
         return {node["NodeID"] for node in self.ray.nodes() if node["Alive"]}
+
+    def node_lost(self, node: str | None) -> bool:
+        """Whether ``node`` (a dead actor's) is gone: its workers often die before Ray declares
+        the node dead, so a node still listed alive is given a few seconds to settle."""
+        if node is None:
+            return False
+        deadline = time.monotonic() + _NODE_SETTLE
+        while node in self.alive_nodes():
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.25)
+        return True
 
     def alone(self, chunk: list[int]) -> bool:
         """Whether ``chunk`` runs alone on its actor: a suspect, retried so that a death can
@@ -238,7 +251,7 @@ class _Run:
                     pass  # the actor died before finishing it (or had not run it)
             unfinished.append(chunk)
         self.drop(actor)
-        node_lost = actor.node is not None and actor.node not in self.alive_nodes()
+        node_lost = self.node_lost(actor.node)
         NOTES.debug(f"an actor on node {actor.node} died (node lost: {node_lost}, "
                     f"{len(finished)} chunk(s) finished, {len(unfinished)} not): "
                     f"{last_line(error)}")
