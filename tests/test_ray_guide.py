@@ -5,6 +5,7 @@ A driver without the token is refused in one line first."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import shlex
@@ -51,10 +52,8 @@ def stop(node: subprocess.Popen) -> None:
             time.sleep(1)  # its children exit after it
         except subprocess.TimeoutExpired:
             continue
-    try:
+    with contextlib.suppress(ProcessLookupError):
         os.killpg(node.pid, signal.SIGKILL)  # stragglers of the group
-    except ProcessLookupError:
-        pass
 
 
 def test_the_guide_on_one_machine(tmp_path):
@@ -107,7 +106,7 @@ def test_the_guide_on_one_machine(tmp_path):
     assert "2000 episodes" in run.stdout and "successes 2000/2000" in run.stdout
 
 
-def wait_for_port(port: int, limit: float = 60) -> None:
+def wait_for_port(port: int, limit: float = 120) -> None:
     """Until the head's GCS listens."""
     deadline = time.monotonic() + limit
     while True:
@@ -119,7 +118,7 @@ def wait_for_port(port: int, limit: float = 60) -> None:
             time.sleep(0.3)
 
 
-def wait_for_nodes(count: int, env: dict[str, str], port: str, limit: float = 60) -> None:
+def wait_for_nodes(count: int, env: dict[str, str], port: str, limit: float = 120) -> None:
     """Until the cluster has ``count`` live nodes (asked through a small driver)."""
     probe = ("import ray, sys, time\n"
              f"ray.init(address='127.0.0.1:{port}', logging_level='ERROR')\n"
