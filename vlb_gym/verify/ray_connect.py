@@ -66,6 +66,13 @@ def log_path() -> Path:
     return Path(tempfile.gettempdir()) / f"vlb-ray-{os.getpid()}.log"
 
 
+def _drop_empty_log() -> None:
+    """A log of nothing is not kept."""
+    with contextlib.suppress(OSError):
+        if log_path().stat().st_size == 0:
+            log_path().unlink()
+
+
 def first_line(exc: BaseException) -> str:
     lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
     return lines[0] if lines else type(exc).__name__
@@ -241,7 +248,11 @@ def session(options: RayOptions, cpus: int) -> Iterator[Any]:
 
     ours = not ray.is_initialized()
     if ours:
-        connect(ray, options, cpus)
+        try:
+            connect(ray, options, cpus)
+        except BaseException:
+            _drop_empty_log()
+            raise
     messages = _Messages()
     printer, worker.print_to_stdstream = worker.print_to_stdstream, messages
     try:
@@ -254,3 +265,4 @@ def session(options: RayOptions, cpus: int) -> Iterator[Any]:
         if messages.count:
             NOTES.warning(f"Ray reported {messages.count} event(s), e.g. "
                           f"'{messages.first[:120]}'; all in {log_path()}")
+        _drop_empty_log()
