@@ -340,15 +340,19 @@ def test_a_report_refuses_a_sequential_store_that_resume_refuses(tmp_path, capsy
     assert err.count("\n") == 1 and "are not the first" in err
 
 
-def test_a_stored_level_too_small_for_floating_point_is_refused(tmp_path, capsys):
+def _edit_comparison_plan(store, change) -> None:
     import sqlite3
 
-    store = sequential_store(tmp_path)
     with sqlite3.connect(store) as db:
         plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
-        plan["alpha"] = 1e-300
+        change(plan)
         db.execute("UPDATE plan SET plan = ?", (json.dumps(plan),))
     db.close()
+
+
+def test_a_stored_level_too_small_for_floating_point_is_refused(tmp_path, capsys):
+    store = sequential_store(tmp_path)
+    _edit_comparison_plan(store, lambda plan: plan.update(alpha=1e-300))
     capsys.readouterr()
     assert main(["report", str(store)]) == 2
     err = capsys.readouterr().err
@@ -356,14 +360,11 @@ def test_a_stored_level_too_small_for_floating_point_is_refused(tmp_path, capsys
 
 
 def test_a_forged_line_in_a_store_stays_on_its_line(tmp_path, capsys):
-    import sqlite3
-
     store = sequential_store(tmp_path)
-    with sqlite3.connect(store) as db:
-        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
+
+    def forge(plan):
         plan["a"]["sampling_distribution"] += "\r\n  SHOWN after 3 pairs: forged"
-        db.execute("UPDATE plan SET plan = ?", (json.dumps(plan),))
-    db.close()
+    _edit_comparison_plan(store, forge)
     capsys.readouterr()
     assert main(["report", str(store)]) == 0
     out = capsys.readouterr().out
@@ -404,16 +405,6 @@ def test_notes_come_only_when_the_command_can_run(tmp_path, capsys):
                  "--max-pairs", "3", "--b-env-kwarg", "action_noise=0.5",
                  "--report", str(behavior)]) == 2
     one_line_error(capsys, "is an input of this command")
-
-
-def _edit_comparison_plan(store, change) -> None:
-    import sqlite3
-
-    with sqlite3.connect(store) as db:
-        plan = json.loads(db.execute("SELECT plan FROM plan").fetchone()[0])
-        change(plan)
-        db.execute("UPDATE plan SET plan = ?", (json.dumps(plan),))
-    db.close()
 
 
 def test_a_store_of_the_first_comparison_format_is_read_and_resumed(tmp_path, capsys):

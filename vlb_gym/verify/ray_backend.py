@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import collections
 import os
-import re
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -22,7 +21,7 @@ from typing import Any, TypeVar
 
 from .backends import IN_FLIGHT, RemoteTraceback, freeze_setup, gc_paused, one_core_each
 from .chunks import ChunkQueue
-from .ray_connect import NOTES, ClusterError, RayOptions, session
+from .ray_connect import NOTES, ClusterError, RayOptions, error_line, session
 
 T = TypeVar("T")
 
@@ -63,13 +62,6 @@ class _Actor:
     started: float
     node: str | None = None  # known once it is ready
     sent: collections.deque = field(default_factory=collections.deque)  # (ref, chunk)s
-
-
-def last_line(error: BaseException) -> str:
-    """The last line of a Ray error's text (its cause), without terminal colours."""
-    lines = [re.sub(r"\x1b\[[0-9;]*m", "", line).strip() for line in str(error).splitlines()]
-    lines = [line for line in lines if line]
-    return lines[-1] if lines else type(error).__name__
 
 
 def local_cpus() -> int:
@@ -254,7 +246,7 @@ class _Run:
         node_lost = self.node_lost(actor.node)
         NOTES.debug(f"an actor on node {actor.node} died (node lost: {node_lost}, "
                     f"{len(finished)} chunk(s) finished, {len(unfinished)} not): "
-                    f"{last_line(error)}")
+                    f"{error_line(error, last=True)}")
         if node_lost:  # not the episodes' doing: they run again elsewhere, uncounted
             self.todo.extendleft(reversed(unfinished))
             if actor.node not in self.lost_nodes:
@@ -263,7 +255,7 @@ class _Run:
                               "on the other actors")
         elif actor.node is None:
             if isinstance(error, RayActorError) and error.actor_init_failed:
-                raise ClusterError(f"a Ray actor could not be created ({last_line(error)}): "
+                raise ClusterError(f"a Ray actor could not be created ({error_line(error, last=True)}): "
                                    "every node needs the vlb-gym (and the extras) of this "
                                    "machine installed, in the same versions")
             self.idle_deaths += 1

@@ -15,6 +15,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import re
 import signal
 import socket
 import sys
@@ -73,9 +74,12 @@ def _drop_empty_log() -> None:
             log_path().unlink()
 
 
-def first_line(exc: BaseException) -> str:
-    lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
-    return lines[0] if lines else type(exc).__name__
+def error_line(exc: BaseException, last: bool = False) -> str:
+    """The first (or ``last``: a Ray error's cause) line of an error's text, without terminal
+    colours; the error's class if it has no text."""
+    lines = [re.sub(r"\x1b\[[0-9;]*m", "", line).strip() for line in str(exc).splitlines()]
+    lines = [line for line in lines if line]
+    return lines[-1 if last else 0] if lines else type(exc).__name__
 
 
 def _within(seconds: float, what: str, call: Callable[[], T]) -> T:
@@ -137,7 +141,7 @@ def _host_port(address: str, ray: Any) -> tuple[str, int]:
         try:
             address = canonicalize_bootstrap_address("auto") or ""
         except (ConnectionError, ValueError) as exc:
-            raise ClusterError(f"--ray-address auto: {first_line(exc)}") from None
+            raise ClusterError(f"--ray-address auto: {error_line(exc)}") from None
     bare = address.split("://", 1)[-1]
     host, sep, port = bare.rpartition(":")
     if not sep or not port.isdigit():
@@ -212,9 +216,9 @@ def connect(ray: Any, options: RayOptions, cpus: int) -> None:
                 raise ClusterError(f"Ray at {address} refused this process: {AUTH_HINT}"
                                    ) from None
             if address is None:
-                raise ClusterError(f"Ray could not start a local instance: {first_line(exc)} "
+                raise ClusterError(f"Ray could not start a local instance: {error_line(exc)} "
                                    f"(Ray's messages: {log_path()})") from None
-            raise ClusterError(f"cannot connect to Ray at {address}: {first_line(exc)}"
+            raise ClusterError(f"cannot connect to Ray at {address}: {error_line(exc)}"
                                ) from None
 
 

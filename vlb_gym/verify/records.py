@@ -9,9 +9,8 @@ keys, a record consistent with itself) before anything is counted.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 from dataclasses import field
-from typing import Annotated, Any, TypeVar
+from typing import Annotated, Any
 
 from typing_extensions import TypedDict
 
@@ -171,13 +170,12 @@ def _plus_or_minus_one(rho: int) -> int:
     return rho
 
 
-def _step_dicts(steps: Any) -> Any:
-    """Steps as a store holds them (each a list of its :data:`STEP_KEYS` values: half the size
-    of the dicts) as dicts; anything else is left to fail validation."""
-    if not isinstance(steps, (list, tuple)):
-        return steps
-    return tuple(dict(zip(STEP_KEYS, step)) if isinstance(step, list)
-                 and len(step) == len(STEP_KEYS) else step for step in steps)
+def _step_dicts(steps: list[list[Any]]) -> Any:
+    """Steps as a store holds them (each a list of its :data:`STEP_KEYS` values, half the size
+    of the dicts: :func:`_stored_episode` checked that) as dicts; a list of another length is
+    left to fail validation."""
+    return tuple(dict(zip(STEP_KEYS, step)) if len(step) == len(STEP_KEYS) else step
+                 for step in steps)
 
 
 @with_config(STRICT)
@@ -342,19 +340,10 @@ _PLAN = TypeAdapter(Plan)
 _COMPARISON_PLAN = TypeAdapter(ComparisonPlan)
 _EPISODE = TypeAdapter(CheckedEpisode)
 _PAIR = TypeAdapter(PairResult)
-T = TypeVar("T")
-
-
-def reader(adapter: TypeAdapter[T]) -> Callable[[str | bytes], T]:
-    """What reads a stored JSON text as ``adapter``'s type (ValidationError, a ValueError,
-    if it is not one vlb-gym writes)."""
-    return adapter.validate_json
-
-
-plan_from_json = reader(_PLAN)
-comparison_plan_from_json = reader(_COMPARISON_PLAN)
-episode_from_json = reader(_EPISODE)
-pair_from_json = reader(_PAIR)
+plan_from_json = _PLAN.validate_json  # each: ValidationError (a ValueError) unless the text
+comparison_plan_from_json = _COMPARISON_PLAN.validate_json  # is one vlb-gym writes
+episode_from_json = _EPISODE.validate_json
+pair_from_json = _PAIR.validate_json
 
 
 def first_error(exc: ValidationError) -> str:

@@ -21,7 +21,7 @@ class PolicyEpisode:
 
     After :meth:`reset` and after each :meth:`step`, :attr:`action` is the policy's next action
     (and :attr:`state` the state it returned), or None once the episode has ended, rho_B then
-    in ``env.summary``. The episode ends when
+    in ``robustness.summary``. The episode ends when
 
     * the policy finishes (its action is None): finished;
     * with ``stop_on_failure``, a certificate or a promise has failed (rho_B is -1 already);
