@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -33,12 +34,15 @@ REFERENCES = Path(__file__).resolve().parent / "references"
 MAX_REASONS = 5
 
 Cell = tuple[int, int]
-Check = Callable[[GridState, EpisodeResult], str | None]
+Check = Callable[[Any, EpisodeResult], str | None]  # (the env's state, the episode record)
 
 
 @dataclass(frozen=True)
 class Task:
-    """One natural-language task, its reference behavior and its success check."""
+    """One natural-language task, its reference behavior and its success check; ``promise``,
+    where given, is a faithful promise an expert would write for it (an expression over the
+    env's outcome helpers), so that the search can be evaluated apart from the model; ``env_id``
+    the environment it is asked on."""
 
     name: str
     description: str  # what the user types, in plain words
@@ -46,6 +50,8 @@ class Task:
     library: bool  # whether the shipped behaviors may be used as sub-behaviors
     reference: Path
     check: Check  # None when the episode did the task, else why not
+    promise: str | None = None
+    env_id: str = ENV_ID
 
 
 @dataclass(frozen=True)
@@ -356,7 +362,7 @@ def evaluate(task: Task, behavior: str | Path, episodes: int = 100, seed: int = 
     resolve in ``library_dir`` (default: the user's library). A behavior that does
     not load raises ValueError."""
     library = None if library_dir is None else str(library_dir)
-    config = CampaignConfig(ENV_ID, PolicyRef("behavior", str(behavior), library),
+    config = CampaignConfig(task.env_id, PolicyRef("behavior", str(behavior), library),
                             episodes, epsilon=EPSILON, seed=seed)
     env, policy = build(config)
     verified = done = judged = faithful = 0
