@@ -5,15 +5,19 @@
         [--out benchmarks/results/synthesis]
     python benchmarks/synthesis_eval.py --base-url http://127.0.0.1:11434 --model qwen2.5-coder \
         [--structured-output auto] ...
+    python benchmarks/synthesis_eval.py --promises [--tasks FILE.py] [--out DIR]
     python benchmarks/synthesis_eval.py --tasks FILE.py --list
     python benchmarks/synthesis_eval.py --replay benchmarks/results/synthesis [--out DIR]
 
 For every model, task and sample, the pipeline of :mod:`vlb_gym.abstractor.certified` runs with
 the local backend (or the served model, with the same temperature, seed, token limit and
 redraws) (the model writes the promise, accepted as ``--yes`` would; a search finds a
-behavior that keeps it and certifies it on fresh seeds). Each certified behavior is then run
-again on its certification episodes by :func:`benchmarks.synthesis_tasks.evaluate`, which also
-applies the task's own check (from the ground truth). Columns:
+behavior that keeps it and certifies it on fresh seeds). With ``--promises`` no model runs:
+each task's faithful promise (``Task.promise``, what an expert would write) goes to the search
+as ``vlb synthesize --certify --promise`` would, so the search's figure is measured apart from
+the model's (model name ``promises``). Each certified behavior is then run again on its
+certification episodes by :func:`benchmarks.synthesis_tasks.evaluate`, which also applies the
+task's own check (from the ground truth). Columns:
 
 * *promise*: the model wrote a promise that checks;
 * *certified*: the promise was certified, P >= 0.95 with confidence >= 0.99 on fresh seeds (the
@@ -53,7 +57,10 @@ sys.path.insert(0, str(REPOSITORY))
 
 from benchmarks.synthesis_tasks import ENV_ID, TASKS, Task, evaluate  # noqa: E402
 from vlb_gym.abstractor.backends import ChatBackend, TranscriptBackend  # noqa: E402
-from vlb_gym.abstractor.certified import synthesize_certified  # noqa: E402
+from vlb_gym.abstractor.certified import (Seeds, certify_promise,  # noqa: E402
+                                          synthesize_certified)
+from vlb_gym.core.library import BehaviorLibrary  # noqa: E402
+from vlb_gym.core.spec import Promise  # noqa: E402
 from vlb_gym.core.files import write_atomic  # noqa: E402
 
 SAMPLE_TEMPERATURE = 0.7
@@ -89,21 +96,33 @@ class Sample:
         return self.certified and self.faithful == self.judged
 
 
-def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: Path,
-            budgets: list[int] | None = None) -> Sample:
-    """Run the pipeline for ``task`` once, save its transcript (and behavior), and check a
-    certified behavior against the task on its certification episodes (``budgets``: see
-    :func:`~vlb_gym.abstractor.certified.synthesize_certified`)."""
+def _accept(promise: Promise, witnesses: list[str]) -> bool:
+    return True  # as --yes
+
+
+def attempt(task: Task, backend: ChatBackend | None, model: str, sample: int, folder: Path,
+            budgets: list[int] | None = None, seeds: Seeds | None = None) -> Sample:
+    """Run the pipeline for ``task`` once (with ``backend``, or with the task's own promise
+    where it is None), save its transcript (and behavior), and check a certified behavior
+    against the task on its certification episodes (``budgets`` and ``seeds``: a replay's, see
+    :mod:`~vlb_gym.abstractor.certified`)."""
     stem = folder / f"{task.name}-{sample}"
-    got = synthesize_certified(ENV_ID, task.description, backend, name=task.name,
-                               budgets=budgets)
+    library = BehaviorLibrary(Path(tempfile.mkdtemp(prefix="no-user-behaviors-"))) \
+        if task.library else None  # the shipped behaviors, where the task allows them
+    if backend is None:
+        promise = Promise(expr=task.promise or "", description="")
+        got = certify_promise(task.env_id, task.description, promise, _accept, task.name,
+                              seeds=seeds, budgets=budgets, library=library)
+    else:
+        got = synthesize_certified(task.env_id, task.description, backend, _accept, task.name,
+                                   seeds=seeds, budgets=budgets, library=library)
     seconds = got.transcript["seconds"]  # the pipeline's wall time, as the transcript says
     got.transcript["task"] = task.name
     write_atomic(stem.with_suffix(".transcript.json"), json.dumps(got.transcript, indent=2) + "\n")
     drafts = got.transcript["drafts"]
     record = Sample(model, task.name, task.difficulty, sample,
                     got.promise.expr if got.promise else "",
-                    sum(d["promise"] is not None for d in drafts),
+                    sum(d["promise"] is not None for d in drafts) if backend else 1,
                     sum(len(d["rounds"]) for d in drafts), got.certified, "", 0, 0, 0, 0, 0,
                     seconds)
     if not got.certified:
@@ -112,9 +131,9 @@ def attempt(task: Task, backend: ChatBackend, model: str, sample: int, folder: P
         return record
     path = stem.with_suffix(".json")
     write_atomic(path, json.dumps(got.document, indent=2) + "\n")
-    certification = got.search.certification
-    outcome = evaluate(task, path, len(certification.episodes), certification.seed)
-    record.candidate = got.search.candidate.label
+    certificate = got.certificate
+    outcome = evaluate(task, path, certificate.episodes, certificate.seed)
+    record.candidate = got.words or ""
     record.episodes, record.verified, record.done = outcome.episodes, outcome.verified, \
         outcome.task_done
     record.judged, record.faithful = outcome.judged, outcome.faithful
@@ -143,40 +162,45 @@ def backends(args: argparse.Namespace) -> list[tuple[str, ChatBackend]]:
 
 def run_models(args: argparse.Namespace, tasks: list[Task]) -> list[Sample]:
     samples = []
-    for model, backend in backends(args):
+    chosen = [("promises", None)] if args.promises else backends(args)
+    for model, backend in chosen:
         folder = args.out / model
         folder.mkdir(parents=True, exist_ok=True)
         for task in tasks:
+            if backend is None and not task.promise:
+                continue
             for sample in range(args.samples):
-                backend.temperature = 0.0 if sample == 0 else SAMPLE_TEMPERATURE
-                backend.seed = sample
+                if backend is not None:
+                    backend.temperature = 0.0 if sample == 0 else SAMPLE_TEMPERATURE
+                    backend.seed = sample
                 record = attempt(task, backend, model, sample, folder)
                 samples.append(record)
                 print(f"{model} {task.name} #{sample}: promise {record.promise!r}; "
-                      f"{'certified by ' + record.candidate if record.certified else 'not certified'}"
+                      f"{'certified: ' + record.candidate if record.certified else 'not certified'}"
                       f"; done {record.done}/{record.episodes}, faithful {record.faithful}/"
                       f"{record.judged}; {record.seconds:.0f} s", flush=True)
     return samples
 
 
 def replay(folder: Path, tasks: list[Task], cap: int | None = None) -> list[Sample]:
-    """Re-run every saved transcript with its own replies; each must end as it did. Each search
-    tries the candidates the live one tried (by count, not time, so on any machine); with
-    ``cap``, a search that found nothing tries only its first ``cap`` (a quicker check: the
-    rest of its order is then taken from the transcript)."""
+    """Re-run every saved transcript with its own replies, seeds and search budgets; each must
+    end as it did (with ``cap``, a search that found nothing builds at most ``cap`` programs:
+    a quicker check)."""
     by_name = {task.name: task for task in tasks}
     samples, mismatches = [], []
     for path in sorted(folder.glob("*/*.transcript.json")):
         saved = json.loads(path.read_text())
         task = by_name.get(saved.get("task"))
-        if task is None or "drafts" not in saved:
+        if task is None or "drafts" not in saved or "seeds" not in saved:
             continue
         sample = int(path.name.removesuffix(".transcript.json").rsplit("-", 1)[1])
-        budgets = [f["tried"] if f["candidate"] or cap is None else min(f["tried"], cap)
+        budgets = [f["built"] if f["program"] or cap is None else min(f["built"], cap)
                    for f in saved["finds"]]
+        seeds = Seeds(list(saved["seeds"]["screen"]), list(saved["seeds"]["certify"]))
+        backend = None if saved["pipeline"] == "promise" else TranscriptBackend.from_file(path)
         with tempfile.TemporaryDirectory() as scratch:
-            record = attempt(task, TranscriptBackend.from_file(path), path.parent.name, sample,
-                             Path(scratch), budgets)
+            record = attempt(task, backend, path.parent.name, sample, Path(scratch), budgets,
+                             seeds)
             again = json.loads((Path(scratch) / path.name).read_text())
         if _outcomes(again) != _outcomes(saved):
             mismatches.append(path)
@@ -191,7 +215,7 @@ def _outcomes(transcript: dict) -> list:
     """What a replay must reproduce: the promises, the behaviors found, the consensus and the
     certifications."""
     return [[d["promise"] for d in transcript["drafts"]],
-            [(f["promise"], f["candidate"]) for f in transcript["finds"]],
+            [(f["promise"], f["program"]) for f in transcript["finds"]],
             transcript["consensus"], transcript["certifications"]]
 
 
@@ -267,6 +291,8 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     source = parser.add_mutually_exclusive_group()
     source.add_argument("--model-path", action="append", metavar="FILE.gguf")
+    source.add_argument("--promises", action="store_true",
+                        help="no model: each task's faithful promise goes to the search")
     source.add_argument("--replay", type=Path, metavar="DIR")
     source.add_argument("--base-url", metavar="URL",
                         help="a served model (OpenAI-compatible or Ollama), with --model")
@@ -288,8 +314,9 @@ def main(argv: list[str] | None = None) -> None:
         for task in tasks:
             print(f"{task.name}\t{task.difficulty}")
         return
-    if not (args.model_path or args.replay or args.base_url):
-        parser.error("one of --model-path, --base-url or --replay is required (or --list)")
+    if not (args.model_path or args.replay or args.base_url or args.promises):
+        parser.error("one of --model-path, --base-url, --promises or --replay is required "
+                     "(or --list)")
     if args.replay:
         args.out = args.out or Path(tempfile.mkdtemp(prefix="synthesis-replay-"))
     args.out = (args.out or REPOSITORY / "benchmarks" / "results" / "synthesis").resolve()

@@ -1,11 +1,11 @@
-"""Certified synthesis, intent first: promise drafts, the search, certification on fresh seeds."""
+"""Certified synthesis: the search over the behavior language, witnesses, certification through
+the campaign engine on fresh seeds, certificates in behavior files, the model-first pipeline."""
 
 from __future__ import annotations
 
 import json
 import subprocess
 import sys
-
 from pathlib import Path
 
 import gymnasium as gym
@@ -13,11 +13,11 @@ import pytest
 
 from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
-from vlb_gym.abstractor.certified import synthesize_certified
+from vlb_gym.abstractor.beliefs import numbers, readings
+from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
+from vlb_gym.abstractor.certify import certification_episodes, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
-from vlb_gym.abstractor.search import (CERTIFY_SEED, SCREEN_SEED, Screen, certification_episodes,
-                                       find, procedure_confidence, search)
-from vlb_gym.abstractor.sketches import GRID, candidates, numbers
+from vlb_gym.abstractor.search import Search
 from vlb_gym.core.spec import Promise, spec_from_data
 from vlb_gym.verify.campaign import episode_seed
 
@@ -26,10 +26,15 @@ GRID_ID = "VLB-GridExplore-v0"
 HOME = Promise(expr="goal_found() and len(moves()) > 0 and final_cell() == start_cell()",
                description="a goal is known and the agent moved, then ended where it began")
 REQUEST = "Search the grid until you know where a goal is, then come back to where you began."
+SEEDS = dict(screen=[11, 12, 13, 14, 15], certify=[101, 102, 103])
 
 
 def reply(promise: Promise) -> str:
     return json.dumps({"description": promise.description, "expr": promise.expr})
+
+
+def yes(promise, witnesses):
+    return True
 
 
 @pytest.fixture(scope="module")
@@ -47,41 +52,90 @@ def test_certification_size_is_the_least_that_bounds_the_union(epsilon, delta, a
     assert procedure_confidence(epsilon, delta, attempts) == pytest.approx(
         1 - attempts * (1 - epsilon) ** n) and procedure_confidence(epsilon, delta,
                                                                     attempts) >= 1 - delta
-    assert certification_episodes() == 112  # the README's figure
+    assert certification_episodes() == 112  # the docs' figure
 
 
 def test_numbers_read_digits_and_words():
     assert numbers("make 3 round trips", "twice, then five times", "0 or 1000") == [2, 3, 5]
 
 
-def test_the_space_is_smallest_first_and_structurally_distinct():
-    space = list(candidates(GRID, GRID_ID, "x", "y", [2]))
-    sizes = [c.phases for c in space]
-    assert sizes == sorted(sizes) and sizes[0] == 1 and max(sizes) == 3
-    assert len({c.key for c in space}) == len(space)
-    for candidate in space[:40]:  # every document is a valid behavior file
-        spec_from_data(candidate.document, candidate.label)
+def test_a_promise_is_read_as_the_agent_can_know_it(interface):
+    space = interface.search_space()
+    outcome = set(interface.make_judge().functions())
+    decision = set(interface.make_helpers().functions())
+    read = dict(readings("is_goal(final_cell()) and steps_after_goal() == 1 and "
+                         "final_cell() != start_cell()", space, outcome, decision))
+    # the part no belief reads (steps) is left out; final_cell is "here" or a bound cell
+    assert read["label(current_cell()) == 'goal' and current_cell() != home"] is False
+    assert read["label(c) == 'goal' and c != home"] is True
+    assert not any("steps_after_goal" in text for text in read)
 
 
-def test_search_finds_the_smallest_behavior_and_certifies_it_on_fresh_seeds():
-    result = search(GRID_ID, REQUEST, HOME, time_limit=120)
-    assert result.candidate.label == "explore until a goal is found -> go to the start"
-    certification = result.certification
-    assert certification.seed == CERTIFY_SEED and certification.passed
-    assert len(certification.episodes) == certification_episodes()
-    screening = {episode_seed(SCREEN_SEED, i) for i in range(30)}
-    assert not screening & {e.seed for e in certification.episodes}
-    assert result.confidence == pytest.approx(1 - 3 * 0.95 ** 112)
-    assert result.failures and result.failures[0][0] == "sense here"
-    assert "promise of synthesized failed" in result.failures[0][1]
+def test_the_search_finds_a_cheap_behavior_and_it_runs_the_same_in_the_runtime():
+    search = Search(GRID_ID, HOME, REQUEST, screen_seed=7)
+    try:
+        found = search.find(120)
+        assert found is not None
+        words = found.program.words()
+        assert words.startswith("sense(current_cell()); ") and "navigate" in words
+        document = search.document(found, "home_again", REQUEST)
+        assert search.rescreen(document) is None  # the package's runtime agrees
+        spec_from_data(document, "<found>")
+        assert search.tally.distinct <= search.tally.built
+        assert search.seeds == [episode_seed(7, i) for i in range(30)]
+    finally:
+        search.close()
 
 
-def test_a_promise_no_candidate_keeps_is_not_certified():
-    screen = Screen(GRID_ID)
-    impossible = Promise(expr="len(primitives()) == 0", description="")  # every node runs one
-    result = find(GRID_ID, "do nothing", impossible, screen, max_candidates=60)
-    screen.close()
-    assert result.candidate is None and result.tried == 60
+def test_a_promise_no_behavior_keeps_is_searched_within_its_budget():
+    search = Search(GRID_ID, Promise(expr="len(primitives()) == 0 and goal_found()"),
+                    "do nothing and know a goal", screen_seed=3)
+    try:
+        assert search.find(60, max_programs=300) is None
+        assert search.tally.built == 300
+    finally:
+        search.close()
+
+
+@pytest.mark.parametrize("expr, witnessed", [("primitives() == ['sense']", True),
+                                              ("final_cell() == start_cell()", True),
+                                              ("goal_found() and len(moves()) > 0", False)])
+def test_least_behaviors_witness_weak_promises(expr, witnessed):
+    search = Search(GRID_ID, Promise(expr=expr), screen_seed=5)
+    try:
+        assert bool(search.witnesses()) is witnessed
+    finally:
+        search.close()
+
+
+def test_an_expert_promise_is_certified_through_the_engine_on_fresh_seeds():
+    shown = []
+    got = certify_promise(GRID_ID, REQUEST, HOME, lambda p, w: shown.append(w) or True,
+                          "home_again", seeds=Seeds(**SEEDS))
+    assert got.certified and shown == [[]]
+    certificate = got.certificate
+    assert (certificate.seed, certificate.episodes, certificate.successes) == (101, 112, 112)
+    assert certificate.confidence == pytest.approx(procedure_confidence())
+    assert got.document["certificate"]["promise"] == HOME.expr
+    screening = {episode_seed(11, i) for i in range(30)}
+    assert not screening & {episode_seed(101, i) for i in range(112)}
+    fresh = certify_promise(GRID_ID, REQUEST, HOME, yes, "home_again")
+    assert fresh.certified and fresh.certificate.seed not in (101, certificate.seed)
+    assert fresh.transcript["seeds"]["screen"][0] != 11
+
+
+def test_a_replay_with_the_recorded_seeds_and_budgets_finds_the_same_behavior():
+    got = certify_promise(GRID_ID, REQUEST, HOME, yes, "home_again", seeds=Seeds(**SEEDS))
+    t = got.transcript
+    again = certify_promise(GRID_ID, REQUEST, HOME, yes, "home_again",
+                            seeds=Seeds(t["seeds"]["screen"], t["seeds"]["certify"]),
+                            budgets=[f["built"] for f in t["finds"]])
+    assert again.document == got.document
+
+
+def test_a_declined_promise_is_not_searched():
+    got = certify_promise(GRID_ID, REQUEST, HOME, lambda p, w: False, seeds=Seeds(**SEEDS))
+    assert got.declined and not got.certified and got.transcript["finds"] == []
 
 
 def test_the_bank_holds_no_evaluation_task():
@@ -119,120 +173,107 @@ def test_a_bad_promise_reply_is_refused_with_its_layer(interface, text, layer):
     assert err.value.layer == layer
 
 
-def test_a_reply_that_would_write_to_the_terminal_is_refused_in_one_line(interface):
-    with pytest.raises(BehaviorSpecError) as err:
-        parse_promise('{"description": "\\u001b]0;owned\\u0007ok", "expr": "goal_found()"}',
-                      interface)
-    assert str(err.value) == ("the reply: promise.description: Value error, character U+001B at "
-                              "position 1 is not printable; text here is one line of printable "
-                              "characters")
-
-
 def test_a_rejected_draft_is_asked_again_out_of_the_conversation(interface):
     backend = ScriptedBackend(['{"description": "d", "expr": "home == 1"}', reply(HOME)])
     draft = draft_promise(REQUEST, interface, backend, max_rounds=2)
     assert draft.promise == HOME and [r["layer"] for r in draft.rounds] == ["expressions", None]
     first, second = backend.requests
     assert "home == 1" not in json.dumps(first)
-    assert [m["role"] for m in second] == [m["role"] for m in first]  # no rejected turn added
     assert "home == 1" in second[-1]["content"] and "was rejected" in second[-1]["content"]
-    assert draft.rounds[0]["examples"] != draft.rounds[1]["examples"]
 
 
-def test_the_pipeline_certifies_a_confirmed_promise_and_replays(tmp_path):
+def test_the_model_pipeline_certifies_and_replays_from_its_transcript(tmp_path):
     backend = ScriptedBackend([reply(HOME)] * 4)
-    shown = []
-    got = synthesize_certified(GRID_ID, REQUEST, backend, lambda p: shown.append(p) or True,
-                               name="home_again", drafts=4)
-    assert got.certified and got.promise == HOME and shown == [HOME]
-    assert got.document["promise"] == HOME.model_dump()
-    assert spec_from_data(got.document, "<got>").name == "home_again"
+    got = synthesize_certified(GRID_ID, REQUEST, backend, yes, name="home_again", drafts=4,
+                               seeds=Seeds(**SEEDS))
+    assert got.certified and got.promise == HOME
     t = got.transcript
     assert len(t["drafts"]) == 4 and len(t["finds"]) == 1  # equal promises searched once
-    assert t["certifications"] == [{"candidate": got.search.candidate.label, "promise": HOME.expr,
-                                    "seed": CERTIFY_SEED, "successes": 112, "episodes": 112}]
+    assert t["certifications"][0]["seed"] == 101 and t["certifications"][0]["successes"] == 112
     path = tmp_path / "t.json"
     path.write_text(json.dumps(t))
-    again = synthesize_certified(GRID_ID, REQUEST, TranscriptBackend.from_file(path),
-                                 name="home_again")
+    again = synthesize_certified(GRID_ID, REQUEST, TranscriptBackend.from_file(path), yes,
+                                 name="home_again",
+                                 seeds=Seeds(t["seeds"]["screen"], t["seeds"]["certify"]),
+                                 budgets=[f["built"] for f in t["finds"]])
     assert again.document == got.document
 
 
-def test_a_declined_promise_searches_nothing():
-    got = synthesize_certified(GRID_ID, REQUEST, ScriptedBackend([reply(HOME)] * 4),
-                               lambda promise: False)
-    assert got.declined and not got.certified and got.transcript["certifications"] == []
+def test_a_draft_a_least_behavior_keeps_is_sent_back_with_it():
+    weak = Promise(expr="final_cell() == start_cell()", description="ends where it began")
+    backend = ScriptedBackend([reply(weak), reply(HOME)])
+    got = synthesize_certified(GRID_ID, REQUEST, backend, yes, drafts=1, seeds=Seeds(**SEEDS))
+    witnessed = got.transcript["drafts"][0]["witnessed"]
+    assert witnessed["witnesses"] and "keeps it" in json.dumps(backend.requests[1])
+    assert got.promise == HOME and got.certified
 
 
 def test_a_backend_failure_ends_the_drafts_honestly():
-    got = synthesize_certified(GRID_ID, REQUEST, ScriptedBackend([None]))
+    got = synthesize_certified(GRID_ID, REQUEST, ScriptedBackend([None]), yes)
     assert not got.certified and got.promise is None
     assert got.transcript["drafts"][0]["rounds"][0]["layer"] == "backend"
 
 
-def vlb(*args, stdin=""):
+def vlb(*args, stdin="", cwd=ROOT):
     return subprocess.run([sys.executable, "-m", "vlb_gym.cli", *args], capture_output=True,
-                          text=True, timeout=300, input=stdin, cwd=ROOT)
+                          text=True, timeout=600, input=stdin, cwd=cwd)
 
 
-def test_cli_certify_shows_the_promise_and_saves_a_certified_behavior(tmp_path):
-    replies = tmp_path / "replies.json"
-    replies.write_text(json.dumps([reply(HOME)] * 4))
+def test_cli_expert_promise_needs_no_model_and_its_certificate_reproduces(tmp_path):
     out = tmp_path / "home.json"
-    proc = vlb("synthesize", GRID_ID, REQUEST, "--certify", "--yes", "--scripted", str(replies),
-               "--name", "home_again", "--out", str(out))
+    proc = vlb("synthesize", GRID_ID, REQUEST, "--certify", "--promise", HOME.expr,
+               "--promise-words", HOME.description, "--yes", "--name", "home_again",
+               "--out", str(out))
     assert proc.returncode == 0, proc.stderr
-    assert f"promise: {HOME.description}\n  judged as: {HOME.expr}\n  accepted (--yes)" \
-        in proc.stdout
+    assert f"judged as: {HOME.expr}\n  accepted (--yes)" in proc.stdout
     assert "certified on 112/112 fresh episodes" in proc.stdout
     saved = json.loads(out.read_text())
-    assert saved["promise"]["expr"] == HOME.expr
+    assert saved["certificate"]["successes"] == 112
     shown = vlb("behaviors", str(out))
-    assert shown.returncode == 0 and f"promise: {HOME.description}" in shown.stdout
-    verified = vlb("verify", GRID_ID, "--behavior", str(out), "--episodes", "20", "--epsilon", "0.05")
-    assert verified.returncode == 0 and "successes 20/20" in verified.stdout
+    assert shown.returncode == 0 and "certified" in shown.stdout
+    again = vlb("verify", GRID_ID, "--behavior", str(out), "--certificate")
+    assert again.returncode == 0 and "certificate reproduced: 112/112" in again.stdout
+    saved["edges"][0]["param"] = "home"  # an edit after certification
+    out.write_text(json.dumps(saved))
+    edited = vlb("verify", GRID_ID, "--behavior", str(out), "--certificate")
+    assert edited.returncode == 1 and "NOT reproduced" in edited.stdout
 
 
-def test_cli_certify_without_yes_asks_and_a_no_saves_nothing(tmp_path):
-    replies = tmp_path / "replies.json"
-    replies.write_text(json.dumps([reply(HOME)] * 4))
-    out = tmp_path / "home.json"
-    proc = vlb("synthesize", GRID_ID, REQUEST, "--certify", "--scripted", str(replies),
-               "--out", str(out), stdin="n\n")
-    assert proc.returncode == 1 and "[y/N]" in proc.stdout and "not confirmed" in proc.stdout
-    assert not out.exists() and not list(tmp_path.glob("home*transcript*"))
+def test_cli_shows_the_least_behavior_that_keeps_a_weak_promise(tmp_path):
+    proc = vlb("synthesize", GRID_ID, "Sense once where you stand.", "--certify", "--promise",
+               "primitives() == ['sense']", "--out", str(tmp_path / "s.json"), stdin="n\n")
+    assert proc.returncode == 1 and "not confirmed" in proc.stdout
+    assert "a behavior that keeps this promise: sense once where it stands" in proc.stdout
+    assert not (tmp_path / "s.json").exists()
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--certify", "--promise", "goal_found("], "--promise: syntax error"),
+    (["--certify", "--promise", "len(moves())"], "not true or false"),
+    (["--certify", "--promise", "current_cell() == (0, 0)"], "'current_cell' is"),
+    (["--promise", "goal_found()"], "add --certify"),
+])
+def test_cli_promise_errors_are_one_line(tmp_path, args, words):
+    proc = vlb("synthesize", GRID_ID, "x", *args, "--yes", "--out", str(tmp_path / "x.json"))
+    assert proc.returncode == 2 and words in proc.stderr, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_verify_certificate_needs_one(tmp_path):
+    proc = vlb("verify", GRID_ID, "--behavior", "explore_until_goal", "--certificate")
+    assert proc.returncode == 2 and "carries no certificate" in proc.stderr
 
 
 def test_cli_certify_on_an_env_without_a_space_is_one_error_line(tmp_path):
-    replies = tmp_path / "replies.json"
-    replies.write_text(json.dumps([reply(HOME)]))
     proc = vlb("synthesize", "VLB-Integrator-v0", "reach the origin", "--certify", "--yes",
-               "--env-module", "examples/integrator_env.py", "--scripted", str(replies),
+               "--env-module", "examples/integrator_env.py", "--promise", "True",
                "--out", str(tmp_path / "x.json"))
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
     assert "no search space" in proc.stderr
 
 
-def test_consensus_weighs_the_first_draft_most():
-    """Two later drafts agreeing on a weaker promise do not outvote the first draft's (the
-    nearest examples'): the behavior that keeps the first one is certified."""
-    weaker = [Promise(expr="goal_found() and primitives()[-1] == 'sense'", description="a"),
-              Promise(expr="goal_found() and primitives()[-1] == 'sense' and len(sensed()) > 0",
-                      description="b")]
-    backend = ScriptedBackend([reply(HOME), reply(weaker[0]), reply(weaker[1]),
-                               reply(weaker[0])])
-    got = synthesize_certified(GRID_ID, REQUEST, backend)
-    consensus = {c["candidate"]: c["keeps"] for c in got.transcript["consensus"]}
-    assert consensus == {"explore until a goal is found -> go to the start": [0],
-                         "explore until a goal is found": [1, 2]}
-    assert got.certified and got.promise == HOME
-    assert got.search.candidate.label == "explore until a goal is found -> go to the start"
-
-
 def test_cli_certify_refuses_the_graph_first_options(tmp_path):
-    replies = tmp_path / "replies.json"
-    replies.write_text(json.dumps([reply(HOME)]))
-    proc = vlb("synthesize", GRID_ID, REQUEST, "--certify", "--yes", "--scripted", str(replies),
+    proc = vlb("synthesize", GRID_ID, REQUEST, "--certify", "--yes", "--promise", HOME.expr,
                "--verify", "10", "--out", str(tmp_path / "x.json"))
     assert proc.returncode == 2 and "--certify: --verify" in proc.stderr
-    assert not (tmp_path / "x.json").exists()

@@ -88,7 +88,26 @@ def check_goal_then_neighbour(state, result):
 
 
 def _task(name: str, difficulty: int, check, description: str) -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check)
+    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
+                PROMISES[name])
+
+
+#: Faithful promises, added later (for the search's own figure; the model never saw them).
+PROMISES = {
+    "home_and_sense": "goal_found() and final_cell() == start_cell() and primitives()[-1] == "
+                      "'sense' and steps_after_goal() in [1, 2] and (steps_after_goal() == 1 or "
+                      "primitives()[-2] == 'navigate')",
+    "look_step_sense": "primitives() == ['sense', 'navigate', 'sense'] and moves()[0] in "
+                       "neighbours(start_cell())",
+    "fifteen_cells_home": "(len(known_cells()) >= 15 or explored_all()) and final_cell() == "
+                          "start_cell()",
+    "everything_then_goal": "explored_all() and is_goal(final_cell()) and primitives()[-1] == "
+                            "'navigate'",
+    "goal_then_neighbour": "steps_after_goal() == 1 and primitives()[-1] == 'navigate' and "
+                           "final_cell() in neighbours(start_cell())",
+    "three_round_trips": "len(moves_after_goal()) == 6 and is_goal(moves_after_goal()[0]) and "
+                         "moves_after_goal() == [moves_after_goal()[0], start_cell()] * 3",
+}
 
 
 TASKS = [

@@ -289,7 +289,40 @@ def check_visit_all_goals(state: GridState, result: EpisodeResult) -> str | None
 def _task(name: str, difficulty: int, library: bool, check: Check,
           *description: str) -> Task:
     return Task(name, "".join(description), difficulty, library,
-                REFERENCES / f"{name}.json", check)
+                REFERENCES / f"{name}.json", check, PROMISES[name])
+
+
+def _trips(n: int) -> str:
+    return (f"len(moves_after_goal()) == {2 * n} and is_goal(moves_after_goal()[0]) and "
+            f"moves_after_goal() == [moves_after_goal()[0], start_cell()] * {n}")
+
+
+#: A faithful promise of each task: what an expert would write (the search's own figure is
+#: measured with these, apart from the model's).
+PROMISES = {
+    "sense_once": "primitives() == ['sense']",
+    "go_to_goal": "steps_after_goal() == 1 and primitives()[-1] == 'navigate' and "
+                  "is_goal(final_cell())",
+    "return_home": "goal_found() and steps_after_goal() <= 1 and final_cell() == start_cell() "
+                   "and (steps_after_goal() == 0 or primitives()[-1] == 'navigate')",
+    "explore_until_goal": "goal_found() and steps_after_goal() == 0",
+    "two_round_trips": _trips(2),
+    "find_goal_and_oscillate": _trips(5),
+    "goal_sense_home": "steps_after_goal() == 3 and primitives()[-3:] == ['navigate', 'sense', "
+                       "'navigate'] and is_goal(moves()[-2]) and sensed()[-1] == moves()[-2] "
+                       "and final_cell() == start_cell()",
+    "explore_20_cells": "(len(known_cells()) >= 20 or explored_all()) and "
+                        "primitives()[-1] == 'sense' and len(known_before_last()) < 20",
+    "find_3_obstacles": "(len(known_obstacles()) >= 3 or explored_all()) and "
+                        "primitives()[-1] == 'sense' and "
+                        "len([c for c in known_before_last() if is_obstacle(c)]) < 3",
+    "patrol_neighbour": "len(moves()) == 6 and moves()[0] in neighbours(start_cell()) and "
+                        "moves() == [moves()[0], start_cell()] * 3",
+    "explore_all": "explored_all() and primitives()[-1] == 'sense'",
+    "explore_all_return_home": "explored_all() and final_cell() == start_cell() and "
+                               "primitives()[-1] == 'navigate'",
+    "visit_all_goals": "all(g in moves() for g in reachable_goals())",
+}
 
 
 _EXHAUSTED = ("You may also stop once every cell you can reach, and every cell next "

@@ -1,145 +1,302 @@
-"""Certified synthesis, intent first: promises, a consensus behavior, confirmation, certification.
+"""Certified synthesis, intent first: a promise, its least witness, a search, a certificate.
 
-:func:`synthesize_certified` runs the whole pipeline for one request:
+:func:`certify_promise` is the pipeline for one promise (an expert's ``--promise``, or the one
+the model's drafts agree on):
 
-1. the model writes the promise ``drafts`` times, each time shown other worked examples of the
-   env's bank (:func:`~vlb_gym.abstractor.intent.draft_promise`); a draft whose expression does
-   not check is asked again once with the error, out of the conversation;
-2. for each distinct promise, :func:`~vlb_gym.abstractor.search.find` looks for the smallest
-   behavior of the env's search space that keeps it on the screening episodes;
-3. *consensus*: every behavior found is screened against every promise, and the behaviors are
-   ranked by the promises they keep, each weighing 1/(k+1) for the draft k that first wrote it
-   (a small model's mistakes differ from draft to draft, so what several drafts agree on is more
-   likely what the user meant, and the first draft, shown the nearest examples, counts most).
-   The best behavior is paired with the earliest promise it keeps;
-4. ``confirm`` shows that promise to the user (the CLI prints it in words and asks; ``--yes``
-   accepts), since a promise that certifies is only as good as its wording;
-5. the behavior is certified against it on fresh seeds
-   (:func:`~vlb_gym.abstractor.search.certify`); if it fails, the next behavior in the ranking,
-   up to :data:`~vlb_gym.abstractor.search.ATTEMPTS` certifications, whose union bound the
-   confidence accounts for.
+1. the promise is tried on the env's least behaviors (stop at once, sense here, ...) on the
+   screening episodes (:meth:`~vlb_gym.abstractor.search.Search.witnesses`): one that keeps it
+   is shown with the promise when ``confirm`` asks the user ("a behavior that keeps this
+   promise: ... Is that what you meant?");
+2. the search finds the cheapest behavior that keeps it on the screening episodes (a root seed
+   drawn afresh), re-run through the package's runtime;
+3. the behavior is certified by a fixed-N campaign on fresh seeds
+   (:mod:`~vlb_gym.abstractor.certify`); one that fails sends the search on, up to
+   :data:`~vlb_gym.abstractor.certify.ATTEMPTS` certifications, whose union bound the
+   confidence accounts for. The document saved carries its certificate.
 
-The result says honestly what it got: a certified behavior with its promise, or the promises
-tried and why none certified. The transcript records every request, reply, search and score.
+:func:`synthesize_certified` puts a language model first: it writes the promise ``drafts``
+times, each shown other worked examples of the env's bank
+(:func:`~vlb_gym.abstractor.intent.draft_promise`); a draft that a least behavior keeps is sent
+back once with that behavior (the request may ask for more); the search runs for each distinct
+promise, every behavior found is screened against every promise, and the behavior kept by the
+promises of most weight (1/(k+1) for the draft k that first wrote it; drafts no least behavior
+keeps count double) is certified against the earliest promise it keeps.
+
+Randomness is recorded: the transcript holds the seeds of the screening and certification
+campaigns and how many programs each search built, so that a replay (``seeds`` and
+``budgets`` from the transcript) tries the same programs and runs the same episodes.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from vlb_gym.core.library import BehaviorLibrary
-from vlb_gym.core.spec import Promise
-from vlb_gym.envs.modules import make_primitive_env
+from vlb_gym.core.spec import Certificate, Promise
 
 from .backends import ChatBackend
+from .certify import ATTEMPTS, Certification, certify
 from .intent import draft_promise
-from .search import (ATTEMPTS, SCREEN_EPISODES, Screen, SearchResult, certify, find, passes,
-                     procedure_confidence)
-from .sketches import Candidate
+from .search import Found, Search, fresh_seed
 
 DRAFTS = 4
 ROUNDS_PER_DRAFT = 2
+TIME_LIMIT = 240.0
+
+Confirm = Callable[[Promise, list[str]], bool]
+
+
+@dataclass
+class Seeds:
+    """The root seeds a run uses: fresh from the OS unless given (a replay, a test)."""
+
+    screen: list[int] = field(default_factory=list)
+    certify: list[int] = field(default_factory=list)
+
+    def next_screen(self, k: int) -> int:
+        while len(self.screen) <= k:
+            self.screen.append(fresh_seed())
+        return self.screen[k]
+
+    def next_certify(self, k: int) -> int:
+        while len(self.certify) <= k:
+            self.certify.append(fresh_seed())
+        return self.certify[k]
 
 
 @dataclass
 class CertifiedSynthesis:
-    """What the pipeline got: the confirmed ``promise`` and certified ``document`` (None where
-    it got none), the last search, whether the user declined, and the transcript."""
+    """What the pipeline got: the confirmed ``promise``, the certified ``document`` (with its
+    certificate; None where it got none), the behavior in words, whether the user declined,
+    and the transcript."""
 
     request: str
     promise: Promise | None
     document: dict[str, Any] | None
-    search: SearchResult | None
+    words: str | None
     declined: bool
     transcript: dict[str, Any]
+    witnesses: list[str] = field(default_factory=list)
 
     @property
     def certified(self) -> bool:
         return self.document is not None
 
-
-def _find_record(result: SearchResult) -> dict[str, Any]:
-    return {"candidate": result.candidate.label if result.candidate else None,
-            "tried": result.tried, "seconds": round(result.seconds, 2),
-            "failures": result.failures}
+    @property
+    def certificate(self) -> Certificate | None:
+        return None if self.document is None else Certificate(**self.document["certificate"])
 
 
-def synthesize_certified(env_id: str, request: str, backend: ChatBackend,
-                         confirm: Callable[[Promise], bool] = lambda promise: True,
-                         name: str = "synthesized", drafts: int = DRAFTS,
-                         time_limit: float = 600.0,
-                         library: BehaviorLibrary | None = None,
-                         budgets: Sequence[int] | None = None) -> CertifiedSynthesis:
-    """Run the pipeline (see the module's docstring) for ``request`` on ``env_id``.
+def _transcript(env_id: str, request: str, pipeline: str, backend: str) -> dict[str, Any]:
+    return {"env_id": env_id, "request": request, "backend": backend, "pipeline": pipeline,
+            "drafts": [], "finds": [], "consensus": [], "certifications": [], "seeds": {}}
 
-    The searches share ``time_limit``; ``budgets`` instead bounds each search, in order, by a
-    number of candidates and not by time (a replay passes the counts a transcript recorded, so
-    that it tries the same candidates on any machine)."""
+
+def _find_record(promise: Promise, search: Search, found: Found | None) -> dict[str, Any]:
+    tally = search.tally
+    return {"promise": promise.expr, "screen_seed": search.screen_seed,
+            "program": found.program.words() if found else None,
+            "built": tally.built, "distinct": tally.distinct, "judged": tally.judged,
+            "seconds": round(tally.seconds, 2), "failures": tally.failures[:3]}
+
+
+class _Certifier:
+    """Searches and certifications of one request, sharing its seeds, budgets and
+    transcript."""
+
+    def __init__(self, env_id: str, request: str, name: str, transcript: dict[str, Any],
+                 seeds: Seeds, budgets: Sequence[int] | None, env_kwargs: dict[str, Any],
+                 workers: int, library: BehaviorLibrary | None):
+        self.env_id, self.request, self.name = env_id, request, name
+        self.transcript, self.seeds, self.budgets = transcript, seeds, budgets
+        self.env_kwargs, self.workers, self.library = env_kwargs, workers, library
+        self.searches: list[Search] = []
+        self.interface: Any = None
+
+    def search(self, promise: Promise) -> Search:
+        k = len(self.searches)
+        search = Search(self.env_id, promise, self.request, self.env_kwargs,
+                        self.seeds.next_screen(k), library=self.library, name=self.name)
+        self.searches.append(search)
+        return search
+
+    def find(self, search: Search, time_limit: float, skip: frozenset[str] = frozenset()
+             ) -> Found | None:
+        k = len(self.transcript["finds"])
+        if self.budgets is None:
+            found = search.find(time_limit, skip=skip)
+        else:
+            budget = self.budgets[k] if k < len(self.budgets) else 0
+            found = search.find(float("inf"), max_programs=budget, skip=skip)
+        self.transcript["finds"].append(_find_record(search.promise, search, found))
+        return found
+
+    def certify(self, search: Search, found: Found) -> tuple[dict[str, Any], Certification]:
+        document = search.document(found, self.name, self.request.strip()[:300])
+        why = search.rescreen(document)
+        attempt = len(self.transcript["certifications"])
+        seed = self.seeds.next_certify(attempt)
+        record: dict[str, Any] = {"program": found.program.words(),
+                                  "promise": search.promise.expr, "seed": seed}
+        self.transcript["certifications"].append(record)
+        if why is not None:  # the runtime and the search disagree: not certified, and said
+            record.update(successes=0, episodes=0, rescreen=why)
+            return document, None  # type: ignore[return-value]
+        certification = certify(self.env_id, document, seed, self.env_kwargs,
+                                workers=self.workers)
+        record.update(successes=certification.successes, episodes=certification.episodes)
+        return document, certification
+
+    def close(self) -> None:
+        for search in self.searches:
+            search.close()
+
+
+def certify_promise(env_id: str, request: str, promise: Promise, confirm: Confirm,
+                    name: str = "synthesized", time_limit: float = TIME_LIMIT,
+                    seeds: Seeds | None = None, budgets: Sequence[int] | None = None,
+                    env_kwargs: dict[str, Any] | None = None, workers: int = 1,
+                    library: BehaviorLibrary | None = None) -> CertifiedSynthesis:
+    """The pipeline for one promise (see the module's docstring); programs may run the
+    behaviors of ``library`` as a whole."""
     started = time.perf_counter()
-    env = make_primitive_env(env_id, {})
-    interface = env.unwrapped
-    transcript: dict[str, Any] = {"env_id": env_id, "request": request, "backend": backend.name,
-                                  "pipeline": "intent-first", "drafts": [], "finds": [],
-                                  "consensus": [], "certifications": []}
+    transcript = _transcript(env_id, request, "promise", "none")
+    run = _Certifier(env_id, request, name, transcript, seeds or Seeds(), budgets,
+                     dict(env_kwargs or {}), workers, library)
+    try:
+        search = run.search(promise)
+        witnesses = search.witnesses()
+        transcript["witnesses"] = witnesses
+        if not confirm(promise, witnesses):
+            transcript["declined"] = promise.model_dump()
+            return _ended(request, promise, None, None, True, transcript, started, witnesses)
+        skip: set[str] = set()
+        while len(transcript["certifications"]) < ATTEMPTS:
+            left = time_limit - (time.perf_counter() - started)
+            found = run.find(search, max(left, 0.0), frozenset(skip))
+            if found is None:
+                break
+            skip.add(found.program.words())
+            document, certification = run.certify(search, found)
+            if certification is not None and certification.passed:
+                document["certificate"] = certification.certificate.model_dump()
+                return _ended(request, promise, document, found.program.words(), False,
+                              transcript, started, witnesses)
+    finally:
+        transcript["seeds"] = {"screen": run.seeds.screen, "certify": run.seeds.certify}
+        run.close()
+    return _ended(request, promise, None, None, False, transcript, started, witnesses)
+
+
+def synthesize_certified(env_id: str, request: str, backend: ChatBackend, confirm: Confirm,
+                         name: str = "synthesized", drafts: int = DRAFTS,
+                         time_limit: float = TIME_LIMIT, seeds: Seeds | None = None,
+                         budgets: Sequence[int] | None = None,
+                         env_kwargs: dict[str, Any] | None = None, workers: int = 1,
+                         library: BehaviorLibrary | None = None) -> CertifiedSynthesis:
+    """The model-first pipeline (see the module's docstring)."""
+    started = time.perf_counter()
+    transcript = _transcript(env_id, request, "intent-first", backend.name)
+    run = _Certifier(env_id, request, name, transcript, seeds or Seeds(), budgets,
+                     dict(env_kwargs or {}), workers, library)
+    try:
+        promises, weights, kept = _drafts(run, backend, drafts)
+        found: list[tuple[Found, Search]] = []
+        per_promise = time_limit / 2 / max(len(promises), 1)
+        for promise in promises:
+            search = next(s for s in run.searches if s.promise == promise)
+            result = run.find(search, per_promise)
+            if result is not None and all(result.program != f.program for f, _ in found):
+                found.append((result, search))
+        ranked = []
+        for result, search in found:
+            keeps = [k for k, other in enumerate(run.searches) if other.keeps(result.program)]
+            transcript["consensus"].append({"program": result.program.words(), "keeps": keeps})
+            if keeps:
+                score = sum(weights[k] * (1 if kept[k] else 2) for k in keeps)
+                ranked.append((-score, keeps[0], result, keeps))
+        ranked.sort(key=lambda r: (r[0], r[1]))
+        for _, first, result, _ in ranked[:ATTEMPTS]:
+            search = run.searches[first]
+            promise = search.promise
+            if not confirm(promise, kept[first]):
+                transcript["declined"] = promise.model_dump()
+                return _ended(request, promise, None, None, True, transcript, started,
+                              kept[first])
+            document, certification = run.certify(search, result)
+            if certification is not None and certification.passed:
+                document["certificate"] = certification.certificate.model_dump()
+                return _ended(request, promise, document, result.program.words(), False,
+                              transcript, started, kept[first])
+        promise = promises[0] if promises else None
+        return _ended(request, promise, None, None, False, transcript, started,
+                      kept[0] if kept else [])
+    finally:
+        transcript["seeds"] = {"screen": run.seeds.screen, "certify": run.seeds.certify}
+        run.close()
+
+
+def _drafts(run: _Certifier, backend: ChatBackend, drafts: int
+            ) -> tuple[list[Promise], list[float], list[list[str]]]:
+    """The distinct promises the model wrote, their weights, and the least behaviors keeping
+    each (a draft kept by one is asked again once, with it)."""
     promises: list[Promise] = []
-    weights: list[float] = []  # of each promise: 1 / (k + 1) for the draft k that wrote it first
+    weights: list[float] = []
+    kept: list[list[str]] = []
+    transcript = run.transcript
     for k in range(drafts):
-        draft = draft_promise(request, interface, backend, ROUNDS_PER_DRAFT, attempt=k)
-        transcript["drafts"].append({"rounds": draft.rounds, "promise": draft.promise
-                                     and draft.promise.model_dump()})
-        if draft.promise is not None and draft.promise.expr not in {p.expr for p in promises}:
-            promises.append(draft.promise)
+        interface = _interface(run)
+        draft = draft_promise(run.request, interface, backend, ROUNDS_PER_DRAFT, attempt=k)
+        record: dict[str, Any] = {"rounds": draft.rounds,
+                                  "promise": draft.promise and draft.promise.model_dump()}
+        transcript["drafts"].append(record)
+        promise = draft.promise
+        if promise is not None and promise.expr not in {p.expr for p in promises}:
+            search = run.search(promise)
+            witnesses = search.witnesses()
+            if witnesses:
+                again = draft_promise(run.request, interface, backend, 1, attempt=k,
+                                      rejected=(promise.expr, _too_weak(witnesses[0])))
+                record["witnessed"] = {"witnesses": witnesses, "rounds": again.rounds,
+                                       "promise": again.promise and again.promise.model_dump()}
+                if again.promise is not None and again.promise.expr not in {
+                        p.expr for p in promises} | {promise.expr}:
+                    stronger = run.search(again.promise)
+                    if not stronger.witnesses():
+                        run.searches.remove(search)
+                        search.close()
+                        search, promise, witnesses = stronger, again.promise, []
+                    else:
+                        run.searches.remove(stronger)
+                        stronger.close()
+            promises.append(promise)
             weights.append(1 / (k + 1))
+            kept.append(witnesses)
         if draft.rounds[-1]["layer"] == "backend":
             break
-    env.close()
-    screen = Screen(env_id, library)
-    try:
-        found: list[tuple[Candidate, list[int]]] = []
-        per_promise = time_limit / max(len(promises), 1) / 2
-        for k, promise in enumerate(promises):
-            if budgets is None:
-                result = find(env_id, request, promise, screen, name, time_limit=per_promise)
-            else:
-                result = find(env_id, request, promise, screen, name, time_limit=math.inf,
-                              max_candidates=budgets[k] if k < len(budgets) else 0)
-            transcript["finds"].append({"promise": promise.expr, **_find_record(result)})
-            if result.candidate is not None and all(
-                    c.key != result.candidate.key for c, _ in found):
-                found.append((result.candidate, []))
-        for candidate, kept in found:
-            kept += [i for i, p in enumerate(promises) if passes(screen, candidate, p,
-                                                                  SCREEN_EPISODES)]
-            transcript["consensus"].append({"candidate": candidate.label, "keeps": kept})
-        ranked = sorted((f for f in found if f[1]),
-                        key=lambda f: (-sum(weights[i] for i in f[1]), f[1][0]))
-        for attempt, (candidate, kept) in enumerate(ranked[:ATTEMPTS]):
-            promise = promises[kept[0]]
-            if not confirm(promise):
-                transcript["declined"] = promise.model_dump()
-                return _ended(request, promise, None, None, True, transcript, started)
-            cert = certify(screen, candidate, promise, attempt)
-            transcript["certifications"].append(
-                {"candidate": candidate.label, "promise": promise.expr, "seed": cert.seed,
-                 "successes": cert.successes, "episodes": len(cert.episodes)})
-            if cert.passed:
-                result = SearchResult(candidate, cert, procedure_confidence(), len(found), 0.0)
-                document = {**candidate.document, "promise": promise.model_dump()}
-                return _ended(request, promise, document, result, False, transcript, started)
-    finally:
-        screen.close()
-    return _ended(request, promises[0] if promises else None, None, None, False, transcript,
-                  started)
+    return promises, weights, kept
+
+
+def _too_weak(witness: str) -> str:
+    return (f"a behavior that only does this keeps it: {witness}. If the task asks for more "
+            "than that, the promise must fail for such a behavior: say what the task asks.")
+
+
+def _interface(run: _Certifier) -> Any:
+    """The env the model's promises are checked against (made once)."""
+    if run.interface is None:
+        from vlb_gym.envs.modules import make_primitive_env
+
+        run.interface = make_primitive_env(run.env_id, run.env_kwargs).unwrapped
+    return run.interface
 
 
 def _ended(request: str, promise: Promise | None, document: dict[str, Any] | None,
-           result: SearchResult | None, declined: bool, transcript: dict[str, Any],
-           started: float) -> CertifiedSynthesis:
+           words: str | None, declined: bool, transcript: dict[str, Any], started: float,
+           witnesses: list[str]) -> CertifiedSynthesis:
     transcript["seconds"] = round(time.perf_counter() - started, 1)
-    if result is not None:
-        result.seconds = transcript["seconds"]
-    return CertifiedSynthesis(request, promise, document, result, declined, transcript)
+    return CertifiedSynthesis(request, promise, document, words, declined, transcript,
+                              witnesses)

@@ -1,201 +1,351 @@
-"""Search for a behavior whose campaign certifies a promise, then certify it on fresh seeds.
+"""Search the behavior language for a behavior that keeps a promise.
 
-:func:`search` walks an env's :mod:`~vlb_gym.abstractor.sketches` space (fewest phases first)
-with the confirmed promise attached to every candidate. Each candidate is compiled (the
-package's own checks) and *screened*: up to ``screen_episodes`` episodes of campaign seed
-:data:`SCREEN_SEED`, stopped at the first one whose rho_B is -1 (a certificate or the promise
-failed). The first candidate that passes screening is *certified*: a fixed-N campaign on fresh
-seeds (root seed ``CERTIFY_SEED + attempt``), never the screening seeds, since the winner was
-chosen on those. A candidate that fails certification sends the search on, at most
-``attempts`` times; the confidence reported is that of the whole procedure: with ``attempts``
-certification tests of N episodes each, a behavior below 1 - eps passes one with probability at
-most ``attempts * (1 - eps)**N`` (a union bound), so N is chosen to make that at most ``delta``.
+The space is every :class:`~vlb_gym.abstractor.programs.Program` of the env's primitives whose
+expressions come from its typed vocabulary (:mod:`~vlb_gym.abstractor.terms`), the promise's
+readings (:mod:`~vlb_gym.abstractor.beliefs`) and the request's constants; programs are built
+statement by statement, cheapest first (best-first over prefixes, each prefix's children in
+order of cost).
+
+The search is *execution-guided*: a prefix is run once on the first :data:`PROBES` screening
+episodes, from its parent's saved states (:mod:`~vlb_gym.abstractor.executor`). A prefix that
+fails one of them (a certificate, its own logic, the step bound) is dropped with everything
+that would extend it; a prefix that acts on those episodes exactly as one already seen (the
+same steps and memory: *observational equivalence* of behaviors) or as its parent does, is
+counted once. Every prefix is also a whole behavior: one whose promise holds on the probe
+episodes is screened on the rest (``screening`` episodes of a fresh root seed, stopped at the
+first failure), then re-run through the package's own runtime.
+
+:func:`witnesses` tries a promise on the env's least behaviors (stop at once, ...) first: a
+promise one of them keeps asks for nothing more than it does.
 """
 
 from __future__ import annotations
 
-import math
+import heapq
+import itertools
+import re
+import secrets
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from vlb_gym.core.library import BehaviorLibrary, compile_spec
+from vlb_gym.core.library import BehaviorLibrary, compile_for, compile_spec
 from vlb_gym.core.runtime import BehaviorPolicy
+from vlb_gym.core.search_space import SearchSpace
 from vlb_gym.core.spec import BehaviorSpecError, Promise, spec_from_data
 from vlb_gym.envs.modules import make_primitive_env
 from vlb_gym.verify.campaign import episode_seed
-from vlb_gym.verify.episode import EpisodeResult, run_episode
+from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers.robustness import RobustnessWrapper
 
-from .sketches import SPACES, Candidate, candidates, numbers
+from .beliefs import literals, numbers, readings
+from .executor import FAILED, OPEN, Executor, Run
+from .programs import Act, Program, Statement
+from .statements import Statements
+from .terms import Bank, Vocabulary, call_name, conforms, contexts, infer_kind
 
-SCREEN_SEED = 0
-CERTIFY_SEED = 1_000_003
-EPSILON = 0.05
-DELTA = 0.01
-ATTEMPTS = 3
-SCREEN_EPISODES = 30
-MAX_CANDIDATES = 20_000
+PROBES = 4
+PROGRESS_WEIGHT = 4.0
+MAX_STATEMENTS = 4
+MAX_LEVEL = 24
 MAX_FAILURES_KEPT = 5
 
 
-def certification_episodes(epsilon: float = EPSILON, delta: float = DELTA,
-                           attempts: int = ATTEMPTS) -> int:
-    """The least N with ``attempts * (1 - epsilon)**N <= delta``."""
-    return math.ceil(math.log(delta / attempts) / math.log(1 - epsilon))
+def fresh_seed() -> int:
+    """A root seed from the operating system's entropy (what no run has looked at)."""
+    return secrets.randbits(63)
 
 
 @dataclass
-class Certification:
-    """A fixed-N campaign of a chosen candidate on fresh seeds."""
+class Found:
+    """A program that kept the promise on every screening episode (not yet certified)."""
 
-    seed: int
-    episodes: list[EpisodeResult]
-
-    @property
-    def successes(self) -> int:
-        return sum(e.success for e in self.episodes)
-
-    @property
-    def passed(self) -> bool:
-        return self.successes == len(self.episodes)
+    program: Program
+    cost: int
 
 
 @dataclass
-class SearchResult:
-    """What :func:`search` found: the certified candidate (None if none), its certification,
-    the procedure's confidence, how many candidates were tried, and the first failures seen
-    (candidate label, what happened) for feedback."""
+class Tally:
+    """What a search did: programs built, those judged whole, distinct behaviors, statements
+    run, and seconds."""
 
-    candidate: Candidate | None
-    certification: Certification | None
-    confidence: float
-    tried: int
-    seconds: float
+    built: int = 0
+    judged: int = 0
+    distinct: int = 0
+    executed: int = 0
+    seconds: float = 0.0
     failures: list[tuple[str, str]] = field(default_factory=list)
-    certifications: list[tuple[str, int, int]] = field(default_factory=list)
+
+    @property
+    def rate(self) -> float:
+        """Programs built per second."""
+        return self.built / self.seconds if self.seconds else 0.0
 
 
-class Screen:
-    """Runs candidates on one env (made once) with a promise attached."""
+@dataclass
+class _Node:
+    program: tuple[Statement, ...]
+    cost: int
+    runs: list[Run]
+    progress: float = 0.0  # how close it comes to the promise on the probes, in [0, 1]
 
-    def __init__(self, env_id: str, library: BehaviorLibrary | None = None,
-                 env_kwargs: dict[str, Any] | None = None):
-        self.env = RobustnessWrapper(make_primitive_env(env_id, env_kwargs or {}))
-        self.library = library or BehaviorLibrary(shipped=False)
+    def priority(self, level: int) -> float:
+        """The order of this node's children of statement cost ``level``: their cost, less
+        :data:`PROGRESS_WEIGHT` times how close their parent comes to the promise."""
+        return self.cost + level - PROGRESS_WEIGHT * self.progress
 
-    def compile(self, candidate: Candidate, promise: Promise) -> BehaviorPolicy:
-        spec = spec_from_data({**candidate.document, "promise": promise.model_dump()},
-                              "<candidate>")
-        compiled = compile_spec(spec, self.env, "<candidate>", None, self.library,
-                                names_only=True)
-        return BehaviorPolicy(compiled, self.env.unwrapped)
 
-    def run(self, policy: BehaviorPolicy, seed: int, episodes: int, stop: bool = True
-            ) -> list[EpisodeResult]:
-        results = []
-        for index in range(episodes):
-            result = run_episode(self.env, policy, episode_seed(seed, index), index)
-            results.append(result)
-            if stop and not result.success:
-                break
-        return results
+class Search:
+    """The search for one promise on one env (see the module's docstring). ``screen_seed`` is
+    the root seed of the screening episodes (default: a fresh one); programs may run the
+    behaviors of ``library`` written for the env, but the one called ``name`` (what is being
+    synthesized is never answered by its own name)."""
+
+    def __init__(self, env_id: str, promise: Promise, request: str = "",
+                 env_kwargs: dict[str, Any] | None = None, screen_seed: int | None = None,
+                 cheap: frozenset[str] = frozenset(), library: BehaviorLibrary | None = None,
+                 name: str | None = None):
+        self.env_id = env_id
+        self.promise = promise
+        self.request = request
+        self.env_kwargs = dict(env_kwargs or {})
+        self.env = make_primitive_env(env_id, self.env_kwargs)
+        self.interface = self.env.unwrapped
+        space = self.interface.search_space()
+        if space is None:
+            raise ValueError(f"{env_id} declares no search space")
+        self.space: SearchSpace = space
+        self.screen_seed = fresh_seed() if screen_seed is None else screen_seed
+        self.seeds = [episode_seed(self.screen_seed, i) for i in range(space.screening)]
+        bounds = [self.env.spec.max_episode_steps if self.env.spec else None, space.max_steps]
+        self.library = library
+        self.name = name
+        self.executor = Executor(self.interface, space, promise,
+                                 min([b for b in bounds if b] or [10_000]), self._behaviors())
+        self.tally = Tally()
+        self._cheap = cheap
+        self._statements: Statements | None = None
 
     def close(self) -> None:
         self.env.close()
 
+    def _behaviors(self) -> dict[str, Any]:
+        """The library's behaviors written for this env that compile, by name (none without a
+        library)."""
+        if self.library is None:
+            return {}
+        out = {}
+        specs, _ = self.library.load_all()
+        for name, spec in specs.items():
+            if spec.env != self.env_id or name == self.name:
+                continue
+            try:
+                out[name] = compile_for(name, self.env, self.library)
+            except (BehaviorSpecError, OSError):
+                continue
+        return out
 
-def find(env_id: str, request: str, promise: Promise, screen: Screen, name: str = "synthesized",
-         screen_episodes: int = SCREEN_EPISODES, max_candidates: int = MAX_CANDIDATES,
-         time_limit: float = 120.0, skip: frozenset[str] = frozenset()) -> SearchResult:
-    """The first candidate of ``env_id``'s space (fewest phases first; keys in ``skip`` left
-    out) that keeps ``promise`` and every certificate on the screening episodes; not yet
-    certified."""
-    if env_id not in SPACES:
-        raise ValueError(f"{env_id} has no search space; known: {', '.join(SPACES)}")
-    started = time.perf_counter()
-    counts = numbers(request, promise.expr, promise.description)
-    space = candidates(SPACES[env_id], env_id, name, request.strip()[:300], counts)
-    result = SearchResult(None, None, 0.0, 0, 0.0)
-    for candidate in space:
-        if result.tried >= max_candidates or time.perf_counter() - started > time_limit:
-            break
-        if candidate.key in skip:
-            continue
-        result.tried += 1
-        if passes(screen, candidate, promise, screen_episodes, result):
-            result.candidate = candidate
-            break
-    result.seconds = time.perf_counter() - started
-    return result
+    # -- the vocabulary ----------------------------------------------------------------------
+    def statements(self) -> Statements:
+        """The grammar's statements for this promise and request (built once)."""
+        if self._statements is None:
+            self._statements = self._grammar()
+        return self._statements
+
+    def _grammar(self) -> Statements:
+        space, interface = self.space, self.interface
+        helpers = interface.make_helpers()
+        vocabulary = Vocabulary.of(helpers, space)
+        found = contexts(interface, space, self.seeds[:6])
+        counts = numbers(self.request, self.promise.expr, self.promise.description)
+        limits = sorted({*range(1, 4), *counts, *(k - 1 for k in counts)} - {0})
+        for k in counts:
+            vocabulary.constants.append(("int", str(k)))
+        for value in literals(self.promise.expr):
+            for kind in [*space.types, *(f"list[{k}]" for k in space.types)]:
+                if conforms(value, kind, space.types):
+                    vocabulary.constants.append((kind, repr(value)))
+        words = set(re.findall(r"[a-z]+", self.request.lower())) | set(
+            re.findall(r"[a-z]+", self.promise.expr.lower()))
+        cheap = {text for _, text in vocabulary.constants if text.strip("'") in words}
+        cheap |= {call_name(n) for n in vocabulary.helpers  # named in the request's words
+                  if any(len(w) >= 4 and w in words for w in call_name(n).split("_"))}
+        outcome = set(interface.make_judge().functions())
+        binders = tuple(k for k in space.types)[:1] * 2
+        decision = {call_name(n) for n in vocabulary.helpers}
+        for text, bound in readings(self.promise.expr, space, outcome, decision):
+            kind = infer_kind(text, found, space.types, binders[0] if bound and binders else None,
+                              vocabulary)
+            if kind is not None:
+                vocabulary.fragments.append((kind, text, 1 if bound else 0))
+                cheap |= {call_name(n) for n in vocabulary.helpers if f"{call_name(n)}(" in text}
+        vocabulary.constants = list(dict.fromkeys(vocabulary.constants))
+        vocabulary.cheap = frozenset(cheap | self._cheap | set(space.common))
+        bank = Bank(vocabulary, found).build(binders)
+        return Statements(bank, space, limits, list(self.executor.behaviors))
+
+    # -- least behaviors -----------------------------------------------------------------------
+    def witnesses(self) -> list[str]:
+        """The words of the env's least behaviors that keep the promise on every screening
+        episode."""
+        keeping = []
+        for witness in self.space.witnesses:
+            if all(self._keeps(seed, witness.steps) for seed in self.seeds):
+                keeping.append(witness.words)
+        return keeping
+
+    def keeps(self, program: Program) -> bool:
+        """Whether ``program`` keeps this search's promise on every screening episode."""
+        return all(self.executor.judge(self._run(seed, program.statements)) is None
+                   for seed in self.seeds)
+
+    def _run(self, seed: int, statements: tuple[Statement, ...]) -> Run:
+        """``statements`` run from the reset of ``seed``."""
+        run = self.executor.start(seed, statements[0])
+        for k, statement in enumerate(statements[1:], 1):
+            if run.status == OPEN:
+                run = self.executor.extend(run, statement, k)
+        return run
+
+    def _keeps(self, seed: int, steps: tuple[tuple[str, str], ...]) -> bool:
+        if not steps:
+            observation, info = self.interface.reset(seed=seed)
+            run = Run(seed, self.interface.save(), dict(info), {})
+        else:
+            run = self._run(seed, tuple(Act(p, text) for p, text in steps))
+        return self.executor.judge(run) is None
+
+    # -- the search ----------------------------------------------------------------------------
+    def find(self, time_limit: float = 120.0, max_programs: int | None = None,
+             skip: frozenset[str] = frozenset()) -> Found | None:
+        """The cheapest program (skipping those whose words are in ``skip``) that keeps the
+        promise on every screening episode, or None within ``time_limit`` seconds or
+        ``max_programs`` programs built."""
+        started = time.perf_counter()
+        statements = self.statements()
+        completions = statements.completions()
+        order = itertools.count()
+        root = _Node((), 0, [])
+        heap: list[tuple[float, int, _Node, int, int]] = [(1, next(order), root, 1, 0)]
+        seen: set[Any] = set()
+        try:
+            while heap:
+                if time.perf_counter() - started > time_limit or (
+                        max_programs is not None and self.tally.built >= max_programs):
+                    return None
+                priority, _, node, level, index = heapq.heappop(heap)
+                items = statements.firsts(level) if not node.program else statements.at(level)
+                if index + 1 < len(items):
+                    heapq.heappush(heap, (priority, next(order), node, level, index + 1))
+                if index == 0 and level < MAX_LEVEL:
+                    heapq.heappush(heap, (node.priority(level + 1), next(order), node,
+                                          level + 1, 0))
+                if index >= len(items):
+                    continue
+                child = self._child(node, items[index], node.cost + level, seen)
+                if child is None:
+                    continue
+                found = self._accept(child, skip)
+                if found is not None:
+                    return found
+                if len(child.program) < MAX_STATEMENTS and any(
+                        r.status == OPEN for r in child.runs):
+                    heapq.heappush(heap, (child.priority(1), next(order), child, 1, 0))
+                    for act in completions if child.program else ():
+                        done = self._child(child, act, child.cost + 1, seen)
+                        found = done and self._accept(done, skip)
+                        if found:
+                            return found
+        finally:
+            self.tally.seconds += time.perf_counter() - started
+            self.tally.executed = self.executor.executed
+        return None
+
+    def _accept(self, node: _Node, skip: frozenset[str]) -> Found | None:
+        """``node``'s program if it keeps the promise on every screening episode."""
+        program = Program(node.program)
+        if node.progress == 1.0 and program.words() not in skip and self._whole(node):
+            return Found(program, node.cost)
+        return None
+
+    def _child(self, node: _Node, statement: Statement, cost: int, seen: set[Any]
+               ) -> _Node | None:
+        """``node`` extended by ``statement``, run on the probe episodes; None if it fails
+        one of them, or acts as its parent or as a program already seen."""
+        self.tally.built += 1
+        index = len(node.program)
+        runs = []
+        for e, seed in enumerate(self.seeds[:PROBES]):
+            if not node.program:
+                run = self.executor.start(seed, statement)
+            else:
+                parent = node.runs[e]
+                run = parent if parent.status != OPEN else \
+                    self.executor.extend(parent, statement, index)
+            if run.status == FAILED:
+                return None
+            runs.append(run)
+        key = hash(tuple(r.key() for r in runs))  # (a hash: seen holds many)
+        if node.program and key == hash(tuple(r.key() for r in node.runs)) or key in seen:
+            return None
+        seen.add(key)
+        self.tally.distinct += 1
+        progress = sum(self.executor.progress(r) for r in runs) / len(runs)
+        return _Node((*node.program, statement), cost, runs, progress)
+
+    def _whole(self, node: _Node) -> bool:
+        """Whether ``node``'s program, ending there, keeps the promise on every screening
+        episode (the probes' runs first, then the rest from their resets)."""
+        self.tally.judged += 1
+        for seed in self.seeds[PROBES:]:
+            why = self.executor.judge(self._run(seed, node.program))
+            if why is not None:
+                self._note(node, why)
+                return False
+        return True
+
+    def _note(self, node: _Node, why: str) -> None:
+        if len(self.tally.failures) < MAX_FAILURES_KEPT:
+            self.tally.failures.append((Program(node.program).words(), why))
+
+    # -- through the runtime ---------------------------------------------------------------
+    def document(self, found: Found, name: str, description: str) -> dict[str, Any]:
+        """The behavior file of ``found`` with the promise attached."""
+        document = found.program.document(self.space, name, description, self.env_id)
+        return {**document, "promise": self.promise.model_dump(exclude_defaults=True)}
+
+    def rescreen(self, document: dict[str, Any],
+                 library: BehaviorLibrary | None = None) -> str | None:
+        """None if ``document`` keeps everything on every screening episode when run by the
+        package's own runtime, else why not (what the search ran must be what runs)."""
+        env = RobustnessWrapper(make_primitive_env(self.env_id, self.env_kwargs))
+        try:
+            spec = spec_from_data(document, "<found>")
+            compiled = compile_spec(spec, env, "<found>", None,
+                                    library or self.library or BehaviorLibrary(shipped=False),
+                                    names_only=True)
+            policy = BehaviorPolicy(compiled, env.unwrapped)
+            for index, seed in enumerate(self.seeds):
+                result = run_episode(env, policy, seed, index)
+                if not result.success:
+                    return result.reason or "rho_B = -1"
+        except BehaviorSpecError as exc:
+            return str(exc)
+        finally:
+            env.close()
+        return None
 
 
-def passes(screen: Screen, candidate: Candidate, promise: Promise, episodes: int,
-           notes: SearchResult | None = None) -> bool:
-    """Whether ``candidate`` with ``promise`` attached keeps everything on the screening
-    episodes (why not is noted in ``notes``)."""
+def search_once(env_id: str, promise: Promise, request: str = "", time_limit: float = 120.0,
+                screen_seed: int | None = None,
+                progress: Callable[[Tally], None] | None = None) -> tuple[Found | None, Search]:
+    """Find a program for ``promise`` (a convenience for one-off use and tests)."""
+    search = Search(env_id, promise, request, screen_seed=screen_seed)
     try:
-        policy = screen.compile(candidate, promise)
-    except BehaviorSpecError as exc:
-        if notes is not None:
-            _note(notes, candidate, f"does not compile: {exc}")
-        return False
-    ran = screen.run(policy, SCREEN_SEED, episodes)
-    if not ran[-1].success and notes is not None:
-        _note(notes, candidate, ran[-1].reason or "rho_B = -1")
-    return ran[-1].success
-
-
-def certify(screen: Screen, candidate: Candidate, promise: Promise, attempt: int,
-            epsilon: float = EPSILON, delta: float = DELTA, attempts: int = ATTEMPTS
-            ) -> Certification:
-    """Certification campaign number ``attempt`` (0-based) of ``candidate``: fresh seeds,
-    :func:`certification_episodes` episodes, none stopped early."""
-    seed = CERTIFY_SEED + attempt
-    policy = screen.compile(candidate, promise)
-    return Certification(seed, screen.run(policy, seed,
-                                          certification_episodes(epsilon, delta, attempts),
-                                          stop=False))
-
-
-def procedure_confidence(epsilon: float = EPSILON, delta: float = DELTA,
-                         attempts: int = ATTEMPTS) -> float:
-    """The confidence of a behavior that passed one of up to ``attempts`` certifications."""
-    return 1 - attempts * (1 - epsilon) ** certification_episodes(epsilon, delta, attempts)
-
-
-def search(env_id: str, request: str, promise: Promise, name: str = "synthesized",
-           screen_episodes: int = SCREEN_EPISODES, attempts: int = ATTEMPTS,
-           time_limit: float = 120.0, library: BehaviorLibrary | None = None) -> SearchResult:
-    """Find and certify: the first candidates that pass screening are certified in turn, up to
-    ``attempts`` of them (see the module's docstring)."""
-    started = time.perf_counter()
-    screen = Screen(env_id, library)
-    tried, failures, skip = 0, [], set()
-    certifications: list[tuple[str, int, int]] = []
-    try:
-        while len(certifications) < attempts:
-            left = time_limit - (time.perf_counter() - started)
-            found = find(env_id, request, promise, screen, name, screen_episodes,
-                         time_limit=max(left, 0.0), skip=frozenset(skip))
-            tried += found.tried
-            failures = failures or found.failures
-            if found.candidate is None:
-                break
-            skip.add(found.candidate.key)
-            cert = certify(screen, found.candidate, promise, len(certifications),
-                           attempts=attempts)
-            certifications.append((found.candidate.label, cert.successes, len(cert.episodes)))
-            if cert.passed:
-                return SearchResult(found.candidate, cert, procedure_confidence(attempts=attempts),
-                                    tried, time.perf_counter() - started, failures,
-                                    certifications)
+        found = search.find(time_limit)
     finally:
-        screen.close()
-    return SearchResult(None, None, 0.0, tried, time.perf_counter() - started, failures,
-                        certifications)
-
-
-def _note(result: SearchResult, candidate: Candidate, why: str) -> None:
-    if len(result.failures) < MAX_FAILURES_KEPT:
-        result.failures.append((candidate.label, why))
+        search.close()
+    if progress is not None:
+        progress(search.tally)
+    return found, search

@@ -14,7 +14,7 @@ import gymnasium as gym
 from vlb_gym.core.files import read_limited, write_atomic
 
 from .common import (UsageError, add_env_module, add_model_options, behavior_name, check_env,
-                     check_output, count, env_modules, probability)
+                     check_output, count, env_modules, probability, seconds)
 from .library import graph_text
 
 if TYPE_CHECKING:
@@ -114,10 +114,15 @@ def announce_structured_output(backend: ChatBackend, command: str) -> None:
 
 
 def confirm_promise(args: argparse.Namespace) -> Any:
-    """The confirmation step: the promise in words and as an expression, then ``--yes`` or the
-    user's answer on stdin (anything but y/yes, or no answer, declines)."""
-    def confirm(promise: Any) -> bool:
+    """The confirmation step: the promise in words and as an expression, the least behavior
+    that keeps it (if one does), then ``--yes`` or the user's answer on stdin (anything but
+    y/yes, or no answer, declines)."""
+    def confirm(promise: Any, witnesses: list[str]) -> bool:
         print(f"promise: {promise.description or '(no words given)'}\n  judged as: {promise.expr}")
+        if witnesses:
+            print(f"  a behavior that keeps this promise: {witnesses[0]}; is that what you "
+                  "meant? (a promise that a behavior doing this little keeps asks for nothing "
+                  "more)")
         if args.yes:
             print("  accepted (--yes)")
             return True
@@ -127,11 +132,36 @@ def confirm_promise(args: argparse.Namespace) -> Any:
     return confirm
 
 
-def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> int:
-    """``vlb synthesize --certify``: intent first (promise, confirmation, search, certification)."""
-    from vlb_gym.abstractor.certified import synthesize_certified
-    from vlb_gym.abstractor.search import ATTEMPTS, EPSILON, certification_episodes
-    from vlb_gym.abstractor.sketches import SPACES
+def expert_promise(args: argparse.Namespace) -> Any:
+    """``--promise EXPR`` (with ``--promise-words``) checked against the env's outcome
+    helpers; a usage error (one line) where it is not a promise."""
+    from vlb_gym.core.promise import check_promise
+    from vlb_gym.core.spec import BehaviorSpecError, Promise, validated
+    from vlb_gym.envs.modules import EnvSetupError, make_primitive_env
+
+    try:
+        env = make_primitive_env(args.env_id, {}, env_modules(args.env_module))
+    except EnvSetupError as exc:
+        raise UsageError(str(exc)) from None
+    try:
+        promise = validated(Promise, {"expr": args.promise,
+                                      "description": args.promise_words or ""},
+                            "--promise", "")
+        own = {name: "an observation helper (what the agent sees, not what happened)"
+               for name in env.unwrapped.make_helpers().functions()}
+        check_promise(promise.expr, env.unwrapped, "--promise", own)
+    except BehaviorSpecError as exc:
+        raise UsageError(" ".join(str(exc).split())) from None
+    finally:
+        env.close()
+    return promise
+
+
+def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend | None) -> int:
+    """``vlb synthesize --certify``: intent first (promise, its witness, confirmation, search,
+    certification on fresh seeds)."""
+    from vlb_gym.abstractor.certified import certify_promise, synthesize_certified
+    from vlb_gym.abstractor.certify import ATTEMPTS, certification_episodes
     from vlb_gym.core.library import BehaviorLibrary, spec_json
     from vlb_gym.core.spec import spec_from_data
     from vlb_gym.verify.bounds import floor_str, one_minus_str
@@ -139,17 +169,20 @@ def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> 
     if args.verify or args.uses or args.info:
         raise UsageError("--certify: --verify, --uses and --info are for the graph-first "
                          "synthesis (--certify certifies on fresh seeds, from its own search)")
-    if args.env_id not in SPACES:
-        raise UsageError(f"--certify: {args.env_id} has no search space (it has: "
-                         f"{', '.join(SPACES)})")
+    check_searchable(args.env_id, env_modules(args.env_module))
     library = BehaviorLibrary()
     name = args.name or "certified_behavior"
     path = Path(args.out) if args.out else library.directory / f"{name}.json"
     if not args.out and name in library and not args.force:
         raise UsageError(f"--name {name}: the library has a behavior of that name (use --force "
                          "to replace it, or another --name)")
-    got = synthesize_certified(args.env_id, args.description, backend, confirm_promise(args),
-                               name)
+    confirm = confirm_promise(args)
+    if backend is None:
+        got = certify_promise(args.env_id, args.description, expert_promise(args), confirm,
+                              name, args.time_limit, workers=args.workers)
+    else:
+        got = synthesize_certified(args.env_id, args.description, backend, confirm, name,
+                                   time_limit=args.time_limit, workers=args.workers)
     transcript = path.with_suffix(".transcript.json")
     if got.declined:
         print("not confirmed: nothing searched, nothing saved")
@@ -158,24 +191,40 @@ def synthesize_certified_cmd(args: argparse.Namespace, backend: ChatBackend) -> 
         where = path.with_suffix(".failed.transcript.json")
         write_atomic(where, json.dumps(got.transcript, indent=2) + "\n")
         t = got.transcript
-        promises = sum(bool(d["promise"]) for d in t["drafts"])
-        found = sum(bool(f["candidate"]) for f in t["finds"])
-        print(f"vlb synthesize: no behavior certified: {promises} promise(s) of "
-              f"{len(t['drafts'])} draft(s), {found} behavior(s) found, "
-              f"{len(t['certifications'])} certification(s) failed\n  transcript: {where}",
-              file=sys.stderr)
+        promises = sum(bool(d["promise"]) for d in t["drafts"]) if backend else 1
+        found = sum(bool(f["program"]) for f in t["finds"])
+        print(f"vlb synthesize: no behavior certified: {promises} promise(s), "
+              f"{found} behavior(s) found, {len(t['certifications'])} certification(s) "
+              f"failed\n  transcript: {where}", file=sys.stderr)
         return 1
     spec = spec_from_data(got.document, str(path))
     write_atomic(path, spec_json(spec))
     write_atomic(transcript, json.dumps(got.transcript, indent=2) + "\n")
-    cert = got.search.certification
-    print(f"{name}: {got.search.candidate.label} (after {got.search.seconds:.0f} s)\n"
-          f"  certified on {cert.successes}/{len(cert.episodes)} fresh episodes (root seed "
-          f"{cert.seed}): the promise holds with P >= {one_minus_str(EPSILON)} at confidence "
-          f"{floor_str(got.search.confidence)} (union bound over up to {ATTEMPTS} "
+    cert = spec.certificate
+    print(f"{name}: {got.words} (after {got.transcript['seconds']:.0f} s)\n"
+          f"  certified on {cert.successes}/{cert.episodes} fresh episodes (root seed "
+          f"{cert.seed}): the promise holds with P >= {one_minus_str(cert.epsilon)} at "
+          f"confidence {floor_str(cert.confidence)} (union bound over up to {ATTEMPTS} "
           f"certification campaigns of {certification_episodes()} episodes)\n"
-          f"  saved: {path}\n  transcript: {transcript}")
+          f"  saved: {path}\n  transcript: {transcript}\n"
+          f"  check it again: vlb verify {args.env_id} --behavior {path} --certificate")
     return 0
+
+
+def check_searchable(env_id: str, modules: Any) -> None:
+    """A usage error unless ``env_id`` declares a search space."""
+    from vlb_gym.envs.modules import EnvSetupError, make_primitive_env
+
+    try:
+        env = make_primitive_env(env_id, {}, modules or ())
+    except EnvSetupError as exc:
+        raise UsageError(str(exc)) from None
+    try:
+        if env.unwrapped.search_space() is None:
+            raise UsageError(f"--certify: {env_id} declares no search space (its "
+                             "PrimitiveEnv.search_space() returns None)")
+    finally:
+        env.close()
 
 
 def cmd_synthesize(args: argparse.Namespace) -> int:
@@ -185,7 +234,9 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
 
     modules = env_modules(args.env_module)
     check_env(args.env_id, {}, modules)
-    backend = backend_from_args(args)
+    if args.promise is not None and not args.certify:
+        raise UsageError("--promise states the promise of a certified synthesis: add --certify")
+    backend = None if args.promise is not None else backend_from_args(args)
     library = BehaviorLibrary()
     if args.out:  # checked before the model is asked; the transcript goes beside the behavior
         inputs = (args.info, args.scripted, args.replay_transcript)
@@ -197,9 +248,11 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
             info = read_limited(args.info, what="--info file").decode()
         except UnicodeDecodeError:
             raise UsageError(f"--info {args.info}: not UTF-8 text") from None
-    announce_structured_output(backend, "synthesize")
     if args.certify:
+        if backend is not None:
+            announce_structured_output(backend, "synthesize")
         return synthesize_certified_cmd(args, backend)
+    announce_structured_output(backend, "synthesize")
     try:
         result = synthesize(args.env_id, args.description, backend, library, info,
                             tuple(args.uses), args.name, args.max_rounds)
@@ -300,7 +353,17 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="intent first: the model writes the behavior's promise, you confirm it, "
                    "and a search finds a behavior that certifies it on fresh seeds")
     y.add_argument("--yes", action="store_true",
-                   help="with --certify: accept the model's promise without asking")
+                   help="with --certify: accept the promise without asking")
+    y.add_argument("--promise", metavar="EXPR",
+                   help="with --certify: the promise itself, an expression over the env's "
+                   "outcome helpers (no model is asked); it is type-checked, tried on the "
+                   "env's least behaviors, and confirmed unless --yes")
+    y.add_argument("--promise-words", metavar="TEXT",
+                   help="with --promise: the promise in plain words, shown when confirming")
+    y.add_argument("--time-limit", type=seconds, default=240.0, metavar="SECONDS",
+                   help="with --certify: seconds the search may take")
+    y.add_argument("--workers", type=count(1), default=1, metavar="N",
+                   help="with --certify: processes running the certification campaign")
     y.add_argument("--verify", type=count(1), metavar="N",
                    help="then verify the result with N episodes")
     y.add_argument("--epsilon", type=probability, default=0.05, metavar="EPS",

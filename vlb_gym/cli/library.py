@@ -52,6 +52,15 @@ def graph_text(compiled: CompiledBehavior) -> str:
     if promise is not None:
         lines.append(f"  promise: {promise.description or promise.expr}"
                      + (f"\n    judged as: {promise.expr}" if promise.description else ""))
+    certificate = compiled.spec.certificate
+    if certificate is not None:
+        from vlb_gym.verify.bounds import floor_str, one_minus_str
+
+        lines.append(f"  certified: P >= {one_minus_str(certificate.epsilon)} at confidence "
+                     f"{floor_str(certificate.confidence)}, {certificate.successes}/"
+                     f"{certificate.episodes} episodes of {certificate.env} (root seed "
+                     f"{certificate.seed}, vlb-gym {certificate.vlb_gym}); check it again: "
+                     f"vlb verify {certificate.env} --behavior FILE --certificate")
     for node in compiled.spec.nodes:
         kind = f"primitive {node.primitive}" if node.primitive else f"behavior {node.behavior}"
         tags = (" [start]" if node.id == compiled.start_node else "") + \

@@ -67,7 +67,41 @@ def progress(quiet: bool, total: int, initial: int, unit: str = "ep"):
         yield lambda _item: bar.update()
 
 
+def certified_campaign(args: argparse.Namespace) -> object:
+    """``--certificate``: the behavior's certificate, whose campaign (N, root seed, eps, env
+    kwargs) this command runs again; a usage error where there is none to run."""
+    from vlb_gym.core.library import BehaviorLibrary
+    from vlb_gym.core.spec import BehaviorSpecError
+
+    if args.behavior is None:
+        raise UsageError("--certificate needs --behavior: the certified behavior file")
+    given = [flag for flag, value in (("--episodes", args.episodes), ("--epsilon", args.epsilon),
+                                      ("--sequential", args.sequential),
+                                      ("--env-kwarg", args.env_kwarg)) if value]
+    if given:
+        raise UsageError(f"--certificate runs the certificate's own campaign: {given[0]} "
+                         "cannot change it")
+    try:
+        spec = BehaviorLibrary().resolve(args.behavior)[0]
+    except BehaviorSpecError as exc:
+        raise UsageError(str(exc)) from None
+    certificate = spec.certificate
+    if certificate is None:
+        raise UsageError(f"--certificate: {args.behavior} carries no certificate (behaviors "
+                         "certified by 'vlb synthesize --certify' do)")
+    if certificate.env != args.env_id:
+        raise UsageError(f"--certificate: {args.behavior} was certified on {certificate.env}, "
+                         f"not {args.env_id}")
+    args.episodes, args.seed, args.epsilon = certificate.episodes, certificate.seed, \
+        certificate.epsilon
+    args.env_kwarg = [f"{k}={json.dumps(v)}" for k, v in certificate.env_kwargs.items()]
+    return certificate
+
+
 def cmd_verify(args: argparse.Namespace) -> int:
+    certificate = certified_campaign(args) if args.certificate else None
+    if args.epsilon is None:
+        raise UsageError("the following arguments are required: --epsilon")
     check_run_args(args)
     ray = ray_options(args, "verify")
     if args.backend == "process" and args.workers > 1:  # its imports beside ours (see there)
@@ -142,7 +176,27 @@ def cmd_verify(args: argparse.Namespace) -> int:
     if report_out:
         write_atomic(report_out, report.to_json())
     print(report.summary(args.report))
+    if certificate is not None:
+        return recheck(certificate, report)
     return 0
+
+
+def recheck(certificate, report) -> int:
+    """Whether the certificate's campaign, run again, counted what it recorded (0) or not (1)."""
+    same_content = report["content_sha256"] == certificate.content_sha256
+    same_count = report["successes"] == certificate.successes
+    if same_content and same_count:
+        print(f"  certificate reproduced: {certificate.successes}/{certificate.episodes} as "
+              f"certified (root seed {certificate.seed}, same behavior content)")
+        return 0
+    if not same_content:
+        print("  certificate NOT reproduced: the behavior's content differs from what was "
+              f"certified (digest {report['content_sha256'][:12]}, certified "
+              f"{certificate.content_sha256[:12]})")
+    if not same_count:
+        print(f"  certificate NOT reproduced: {report['successes']}/{report['episodes']} now, "
+              f"{certificate.successes}/{certificate.episodes} certified")
+    return 1
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -192,8 +246,12 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="with --sequential: stop undecided after M episodes (default: 20 times "
                    "the fixed-N plan 'vlb plan --epsilon EPS --confidence 1-DELTA', e.g. 1180 "
                    "for EPS = DELTA = 0.05)")
-    v.add_argument("--epsilon", required=True, type=probability, metavar="EPS",
-                   help="the claim is P[success] >= 1 - EPS")
+    v.add_argument("--epsilon", type=probability, metavar="EPS",
+                   help="the claim is P[success] >= 1 - EPS (required unless --certificate)")
+    v.add_argument("--certificate", action="store_true",
+                   help="with --behavior FILE: run the campaign of the file's certificate again "
+                   "(its N, root seed, eps and env kwargs) and say whether it counts what the "
+                   "certificate records (exit 1 if not)")
     v.add_argument("--delta", type=level, default=0.05,
                    help="lower bound at confidence level 1 - DELTA")
     v.add_argument("--seed", type=count(0), default=0,

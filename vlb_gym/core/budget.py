@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import inspect
 import numbers
+from functools import lru_cache
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
@@ -25,6 +26,12 @@ MAX_INT_RESULT = 2**63  # magnitude bound of computed integers
 MAX_ROUND_DIGITS = 20
 MAX_STEP_WORK = 5 * MAX_WORK  # work units of every evaluation choosing one action together
 MAX_EPISODE_WORK = 100 * MAX_WORK  # ... of one episode (and of a dry run's episodes together)
+
+
+@lru_cache(maxsize=4096)
+def _returns_list(function: Callable[..., Any]) -> bool:
+    """Whether ``function`` says it returns a list (its return annotation), read once."""
+    return str(inspect.signature(function).return_annotation).startswith(("list", "List"))
 
 
 class EvaluationLimitError(ValueError):
@@ -291,8 +298,7 @@ class Budget:
         result's length; the others return fixed-size values and are passed through."""
         out = {}
         for name, fn in helpers.items():
-            returns = str(inspect.signature(fn).return_annotation)
-            out[name] = self._charged(fn) if returns.startswith(("list", "List")) else fn
+            out[name] = self._charged(fn) if _returns_list(getattr(fn, "__func__", fn)) else fn
         return out
 
     def _charged(self, fn: Callable[..., Any]) -> Callable[..., Any]:

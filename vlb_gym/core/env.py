@@ -16,6 +16,7 @@ override :meth:`PrimitiveEnv.encode_action` and :meth:`PrimitiveEnv.decode_actio
 from __future__ import annotations
 
 import abc
+import copy
 from collections.abc import Callable, Sequence
 from typing import Any, Generic, TypeVar
 
@@ -25,6 +26,7 @@ from gymnasium import spaces
 
 from .helpers import Helpers, Judge, brief
 from .primitive import MotionPrimitive, Outcome, execute
+from .search_space import SearchSpace
 
 State = TypeVar("State")
 FrameCallback = Callable[[np.ndarray], None]
@@ -36,7 +38,7 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
     Subclasses call ``super().__init__(primitives, observation_space, render_mode)`` and
     implement :meth:`sample_state`, :meth:`observation`, :meth:`make_helpers` and
     :meth:`sampling_distribution`; they may override :meth:`make_judge` (promises),
-    :meth:`reset_info`, :meth:`step_info`,
+    :meth:`search_space` (synthesis), :meth:`reset_info`, :meth:`step_info`,
     :meth:`reward`, :meth:`render` and :meth:`film`, and name slow imports in :attr:`preload`. Every step's ``info`` holds ``primitive``,
     ``param``, ``admissible``, ``certificate`` (and ``reason`` when it failed), the parts'
     certificates and the measurements of the primitive (:class:`~vlb_gym.core.primitive.Outcome`),
@@ -88,6 +90,12 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         """Fresh outcome helpers for behaviors' promises (read the true state and the steps a
         behavior ran; see :mod:`vlb_gym.core.promise`); None if behaviors on this env cannot
         promise anything."""
+        return None
+
+    def search_space(self) -> SearchSpace | None:
+        """What the behavior synthesizer needs to search behaviors for this env (its types,
+        how primitives are parametrised, memory, least behaviors; see
+        :mod:`vlb_gym.core.search_space`); None if behaviors cannot be searched for it."""
         return None
 
     def reset_info(self) -> dict[str, Any]:
@@ -180,6 +188,18 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         info.update(self.step_info(outcome))
         self._frame()
         return self.observation(), self.reward(outcome), False, False, info
+
+    def save(self) -> Any:
+        """The state and the generator, to come back to with :meth:`load` (the synthesizer
+        tries many continuations of one prefix). The default deep-copies them; an env whose
+        state has large parts that never change may share those."""
+        return copy.deepcopy(self.state), copy.deepcopy(self.np_random.bit_generator.state)
+
+    def load(self, saved: Any) -> None:
+        """Continue from what :meth:`save` returned (which stays as it was)."""
+        state, generator = saved
+        self._state = copy.deepcopy(state)
+        self.np_random.bit_generator.state = copy.deepcopy(generator)
 
     @property
     def state(self) -> State:

@@ -127,9 +127,11 @@ class BehaviorLibrary:
         return specs, broken
 
 
-def spec_json(spec: BehaviorSpec) -> str:
-    """A behavior document as pretty JSON (aliases, no defaults)."""
-    data = spec.model_dump(by_alias=True, exclude_defaults=True)
+def spec_json(spec: BehaviorSpec, certificate: bool = True) -> str:
+    """A behavior document as pretty JSON (aliases, no defaults; without its certificate if
+    ``certificate`` is False)."""
+    data = spec.model_dump(by_alias=True, exclude_defaults=True,
+                           exclude=None if certificate else {"certificate"})
     return json.dumps(data, indent=2) + "\n"
 
 
@@ -192,13 +194,15 @@ class BehaviorLoader:
                 if Path(b.source).is_absolute()]
 
     def content(self, ref, policy: BehaviorPolicy) -> dict:
-        """A digest of the whole tree of behaviors and their documents, by source."""
+        """A digest of the whole tree of behaviors and their documents, by source (a
+        behavior's certificate, which records this digest, left out)."""
         tree = behavior_tree(policy.behavior)
         digest = hashlib.sha256()
         for behavior in tree:
-            digest.update(spec_json(behavior.spec).encode())
+            digest.update(spec_json(behavior.spec, certificate=False).encode())
         return {"sha256": digest.hexdigest(),
-                "behaviors": {b.source: b.spec.model_dump(by_alias=True, exclude_defaults=True)
+                "behaviors": {b.source: b.spec.model_dump(by_alias=True, exclude_defaults=True,
+                                                          exclude={"certificate"})
                               for b in tree}}
 
     def trained_env(self, ref) -> None:

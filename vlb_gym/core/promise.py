@@ -108,24 +108,43 @@ def _mentions(text: str, name: str) -> bool:
     return re.search(rf"(?<![A-Za-z0-9_]){re.escape(name)}(?![A-Za-z0-9_])", text) is not None
 
 
+class Judging:
+    """Judges promises on one env: its outcome helpers made once, and every judgement of an
+    episode under one budget (:meth:`new_episode` at each reset), so that however many
+    promises an episode judges, their work together stays bounded."""
+
+    def __init__(self, interface: PrimitiveEnv):
+        self.interface = interface
+        helpers = interface.make_judge()
+        assert helpers is not None  # compile_promise refused a promise without outcome helpers
+        self.helpers = helpers
+        self.budget = Budget()
+        self.namespace = guard_namespace(self.budget.charging(helpers.functions()), self.budget)
+
+    def new_episode(self) -> None:
+        self.budget.new_episode()
+
+    def __call__(self, claim: Claim, history: Sequence[Mapping[str, Any]],
+                 reset_info: Mapping[str, Any]) -> str | None:
+        """None if ``claim``'s promise holds on the episode so far (``history``: every step's
+        info since the reset), else why not: the promise, and what the judge saw. An
+        evaluation that raises or exceeds its budget is a failed promise, never an
+        exception."""
+        helpers, since = self.helpers, claim.since
+        helpers.bind(Episode(self.interface.state, history[since:],
+                             history[since - 1] if since > 0 else reset_info))
+        try:
+            held = bool(claim.expression.evaluate(self.namespace))
+            problem = None if held else "it does not hold"
+        except Exception as exc:  # the promise's own failure: the episode's, not the process's
+            problem = f"{type(exc).__name__}: {exc}"
+        if problem is None:
+            return None
+        return (f"promise of {claim.behavior} failed ({claim.words}: {problem}): "
+                f"{helpers.summary()}")
+
+
 def judge(interface: PrimitiveEnv, claim: Claim, history: Sequence[Mapping[str, Any]],
           reset_info: Mapping[str, Any]) -> str | None:
-    """None if ``claim``'s promise holds on the episode so far (``history``: every step's
-    info since the reset), else why not: the promise, and what the judge saw. An evaluation
-    that raises or exceeds its budget is a failed promise, never an exception."""
-    helpers = interface.make_judge()
-    assert helpers is not None  # compile_promise refused a promise without outcome helpers
-    since = claim.since
-    helpers.bind(Episode(interface.state, history[since:],
-                         history[since - 1] if since > 0 else reset_info))
-    budget = Budget()
-    namespace = guard_namespace(budget.charging(helpers.functions()), budget)
-    try:
-        held = bool(claim.expression.evaluate(namespace))
-        problem = None if held else "it does not hold"
-    except Exception as exc:  # the promise's own failure: the episode's, not the process's
-        problem = f"{type(exc).__name__}: {exc}"
-    if problem is None:
-        return None
-    return (f"promise of {claim.behavior} failed ({claim.words}: {problem}): "
-            f"{helpers.summary()}")
+    """One judgement (see :class:`Judging`) with a budget of its own."""
+    return Judging(interface)(claim, history, reset_info)

@@ -128,6 +128,27 @@ class Promise(_Model):
     description: text(500) = ""
 
 
+class Certificate(_Model):
+    """What certified a behavior: a fixed-N campaign on ``env`` (with ``env_kwargs``), root seed
+    ``seed``, whose ``successes`` of ``episodes`` kept every certificate and ``promise``. It
+    gives P[success] >= 1 - ``epsilon`` with ``confidence`` (over the ``attempts`` certification
+    campaigns of the search that found it: a union bound). ``content_sha256`` is the digest of
+    the behavior's content without this certificate, ``vlb_gym`` the version that ran it:
+    ``vlb verify ENV --behavior FILE --episodes N --seed S`` runs the same episodes again."""
+
+    promise: ExpressionText
+    env: text(200)
+    env_kwargs: dict[Identifier, Any] = Field(default_factory=dict, max_length=32)
+    seed: int = Field(ge=0, lt=2**63)
+    episodes: int = Field(ge=1, le=10**9)
+    successes: int = Field(ge=0, le=10**9)
+    epsilon: float = Field(gt=0, lt=1)
+    confidence: float = Field(ge=0, le=1)
+    attempts: int = Field(1, ge=1, le=1000)
+    content_sha256: Annotated[str, StringConstraints(pattern="^[0-9a-f]{64}$")]
+    vlb_gym: text(40)
+
+
 class BehaviorSpec(_Model):
     """A whole behavior file."""
 
@@ -142,6 +163,7 @@ class BehaviorSpec(_Model):
     start: Start
     terminals: list[Identifier] = Field(min_length=1)
     promise: Promise | None = None
+    certificate: Certificate | None = None
 
 
 def _place(loc: tuple[Any, ...]) -> str:

@@ -9,7 +9,7 @@ import gymnasium as gym
 
 from vlb_gym.core.primitive import Failure
 from vlb_gym.core.runtime import BehaviorPolicy
-from vlb_gym.core.promise import Claim, judge
+from vlb_gym.core.promise import Claim, Judging
 
 
 def behavior_robustness(finished: bool, certificates: Iterable[bool]) -> int:
@@ -43,6 +43,7 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self.first_failure: str | None = None
         self.first_cause: str | None = None
         self.summary: dict[str, Any] | None = None
+        self._judging: Judging | None = None  # made at the first promise
 
     def reset(self, **kwargs: Any):
         self.certificates = []
@@ -51,6 +52,8 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         self.first_failure = None
         self.first_cause = None
         self.summary = None
+        if self._judging is not None:
+            self._judging.new_episode()
         obs, self._reset_info = self.env.reset(**kwargs)
         return obs, self._reset_info
 
@@ -90,7 +93,10 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         the steps each ran; a broken one fails the episode like a failed certificate (cause
         ``"<behavior>: promise"``)."""
         for claim in claims:
-            problem = judge(self.env.unwrapped, claim, self.history, self._reset_info)
+            if self._judging is None:
+                self._judging = Judging(self.env.unwrapped)
+                self._judging.new_episode()
+            problem = self._judging(claim, self.history, self._reset_info)
             self.promises.append(problem is None)
             if problem is not None and self.first_failure is None:
                 self.first_failure = f"after step {len(self.history)}: {problem}"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import gymnasium as gym
@@ -10,10 +11,11 @@ from gymnasium import spaces
 
 from vlb_gym.core.env import PrimitiveEnv
 from vlb_gym.core.primitive import Outcome
+from vlb_gym.core.search_space import Memory, Parameter, SearchSpace, Witness
 from vlb_gym.envs import arguments
 
 from .generator import check_fits, sample_state
-from .helpers import GridHelpers
+from .helpers import Cell, GridHelpers
 from .judge import GridJudge
 from .primitives import Navigate, Sense, controller_modules
 from .types import GridState, Label
@@ -124,6 +126,50 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
     def make_judge(self) -> GridJudge:
         """Fresh outcome helpers for promises (the true map and the steps a behavior ran)."""
         return GridJudge(self.size)
+
+    def search_space(self) -> SearchSpace:
+        """Cells are the one type; ``sense`` takes the agent's cell, ``navigate`` any cell;
+        behaviors remember where they began (``home``) and where they have stood (``path``)."""
+        return SearchSpace(
+            types={"cell": Cell},
+            parameters=(Parameter("sense", fixed=("current_cell()",)),
+                        Parameter("navigate", "cell")),
+            memory=(Memory("home", "cell", "current_cell()",
+                           description="the cell the behavior began in"),
+                    Memory("path", "list[cell]", "[current_cell()]",
+                           (("navigate", "path + [PARAM]"),),
+                           "the cells the agent has stood in: the start, then each cell it "
+                           "moved to")),
+            witnesses=(Witness("stop at once, doing nothing"),
+                       Witness("sense once where it stands and stop",
+                               (("sense", "current_cell()"),)),
+                       Witness("go to the cell where it stands (its start) and stop",
+                               (("navigate", "current_cell()"),))),
+beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
+                     "is_goal": "label({0}) == 'goal'", "is_obstacle": "label({0}) == 'obstacle'",
+                     "goal_found": "goal_found()", "neighbours": "adjacent({0})",
+                     "known_cells": "explored()",
+                     "known_obstacles": "[k for k in explored() if label(k) == 'obstacle']",
+                     "reachable_cells": "[k for k in explored() if known_free(k)]",
+                     "reachable_goals": "[k for k in explored() if label(k) == 'goal']",
+                     "explored_all": "len(frontier_cells()) == 0"},
+            common=("current_cell", "explored", "frontier_cells", "goal_found", "label"),
+            here=("cell", "current_cell()"), max_steps=4 * self.size * self.size // 3)
+
+    def save(self) -> tuple[GridState, dict[str, Any]]:
+        """A copy of what primitives change (labels, position, what was found, the trail so
+        far); the map and its derived arrays, which never change in an episode, are shared."""
+        return self._copy(self.state), dict(self.np_random.bit_generator.state)
+
+    def load(self, saved: tuple[GridState, dict[str, Any]]) -> None:
+        state, generator = saved
+        self._state = self._copy(state)
+        self.np_random.bit_generator.state = generator
+
+    @staticmethod
+    def _copy(state: GridState) -> GridState:
+        return replace(state, labels=state.labels.copy(), position=state.position.copy(),
+                       trail=list(state.trail))
 
     def reset_info(self) -> dict[str, Any]:
         return {"start_cell": self.state.start_cell}

@@ -6,16 +6,19 @@ only the observation: the agent's labels and position.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from vlb_gym.core.helpers import Helpers, brief, helper
 
 from .planner import _neighbours
-from .types import GOAL, LABEL_NAMES, UNEXPLORED, cell_of
+from .types import GOAL, LABEL_NAMES, OBSTACLE, UNEXPLORED, cell_of
 
 Cell = tuple[int, int]
+Direction = Literal["right", "left", "up", "down"]
+_STEPS = {"right": (1, 0), "left": (-1, 0), "up": (0, 1), "down": (0, -1)}
+_FREE = (LABEL_NAMES.index("empty"), GOAL)
 
 
 def _integer(value: Any) -> bool:
@@ -48,7 +51,8 @@ class GridHelpers(Helpers):
     def __init__(self, size: int):
         self.size = size
         self._cells = [divmod(k, size) for k in range(size * size)]
-        self._adjacent = [[self._cells[m] for m in ms] for ms in _neighbours(size)]
+        self._adjacent_flat = _neighbours(size)
+        self._adjacent = [[self._cells[m] for m in ms] for ms in self._adjacent_flat]
         self._labels: list[int] = []
         self._here: Cell = (0, 0)
 
@@ -91,6 +95,41 @@ class GridHelpers(Helpers):
     def current_cell(self) -> Cell:
         """The cell the agent occupies."""
         return self._here
+
+    @helper
+    def frontier_cells(self) -> list[Cell]:
+        """E4's candidates: the known cells that are not obstacles and have an unexplored
+        neighbour (where sensing can still reveal something), in flat-index order."""
+        labels, adjacent = self._labels, self._adjacent_flat
+        return [self._cells[k] for k, lab in enumerate(labels)
+                if lab != UNEXPLORED and lab != OBSTACLE
+                and any(labels[m] == UNEXPLORED for m in adjacent[k])]
+
+    @helper
+    def manhattan(self, a: Cell, b: Cell) -> int:
+        """Steps along rows and columns from ``a`` to ``b``, obstacles ignored: |di| + |dj|."""
+        k, m = self._index(a, "manhattan"), self._index(b, "manhattan")
+        return abs(k // self.size - m // self.size) + abs(k % self.size - m % self.size)
+
+    @helper
+    def beside(self, cell: Cell, direction: Direction) -> Cell | None:
+        """The cell next to ``cell`` in ``direction`` ('right': i + 1, 'left': i - 1, 'up':
+        j + 1, 'down': j - 1), or None where that is outside the grid."""
+        k = self._index(cell, "beside")
+        step = _STEPS.get(direction) if type(direction) is str else None
+        if step is None:
+            raise ValueError(f"beside(): {brief(direction)} is not one of "
+                             f"{', '.join(map(repr, _STEPS))}")
+        i, j = k // self.size + step[0], k % self.size + step[1]
+        return (i, j) if 0 <= i < self.size and 0 <= j < self.size else None
+
+    @helper
+    def known_free(self, cell: Cell | None) -> bool:
+        """Whether ``cell`` is known to be free: labelled 'empty' or 'goal' (None, outside the
+        grid, is not)."""
+        if cell is None:
+            return False
+        return self._labels[self._index(cell, "known_free")] in _FREE
 
     @helper(one_of=LABEL_NAMES)
     def label(self, cell: Cell) -> str:

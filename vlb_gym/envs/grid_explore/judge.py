@@ -78,6 +78,24 @@ class GridJudge(Judge):
         return [cell for cell, lab in zip(self._cells, labels) if lab != UNEXPLORED]
 
     @helper
+    def known_before_last(self) -> list[Cell]:
+        """The cells the agent knew before the behavior's last step: those it knows now, less
+        those its last step sensed that none of its earlier steps did (with known_cells(): was
+        the last step the first after which something held, "as soon as"?)."""
+        if not self._steps or self._steps[-1][0] != "sense":
+            return self.known_cells()
+        earlier = set()
+        for name, cell in self._steps[:-1]:
+            if name == "sense":
+                earlier.update(self._sensed(cell))
+        fresh = set(self._sensed(self._steps[-1][1])) - earlier
+        return [c for c in self.known_cells() if c not in fresh]
+
+    def _sensed(self, cell: Cell) -> list[Cell]:
+        """The cells a sense at ``cell`` labels: it and its neighbours."""
+        return [cell, *self._adjacent[cell_index(cell, self.size, "sense")]]
+
+    @helper
     def known_obstacles(self) -> list[Cell]:
         """The cells the agent has labelled 'obstacle'."""
         labels = self._state.labels.ravel().tolist()

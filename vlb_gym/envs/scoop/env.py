@@ -12,11 +12,12 @@ from gymnasium import spaces
 
 from vlb_gym.core.env import FrameCallback, PrimitiveEnv
 from vlb_gym.core.primitive import Outcome
+from vlb_gym.core.search_space import Parameter, SearchSpace
 from vlb_gym.envs import arguments
 
 from . import gl, piles
 from .generator import place, sample_environment
-from .helpers import ScoopHelpers, ScoopJudge
+from .helpers import Pose, ScoopHelpers, ScoopJudge
 from .kinematics import Kinematics, matrix_rpy, rpy_matrix
 from .primitives import Scoop
 from .scene import DEFAULT_PHYSICS, GRAIN_MASS, Physics, Scene, build_scene
@@ -29,6 +30,8 @@ MAX_SLEEP_TOLERANCE = 0.1  # m/s: three times the default, far past the jitter o
 MAX_SOLVER_ITERATIONS = 200  # CG iterations per step: far past convergence (30 was the cap)
 SOLVER_TOLERANCES = (1e-10, 1e-2)  # relative improvement at which CG stops
 DEFAULT_SENSING_POSE = (0.5, 0.075, 0.55, np.pi, -0.35, np.pi / 2)
+#: The default sensing pose as behavior files write it (five decimals).
+SENSING_POSE_EXPRESSION = "(" + ", ".join(f"{round(v, 5):g}" for v in DEFAULT_SENSING_POSE) + ")"
 FOLDED = np.array([0.0, -1.9, 1.9, -1.57, -1.57, 0.0])
 
 
@@ -135,6 +138,12 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
     def make_judge(self) -> ScoopJudge:
         """Fresh outcome helpers for promises (what the behavior's scoops measured)."""
         return ScoopJudge()
+
+    def search_space(self) -> SearchSpace:
+        """Scoops from poses, the default sensing pose first; a scoop costs seconds of
+        simulation, so candidates are screened on a few episodes."""
+        return SearchSpace(types={"pose": Pose}, parameters=(Parameter("scoop", "pose"),),
+                           constants=(("pose", SENSING_POSE_EXPRESSION),), screening=3)
 
     def sample_state(self) -> ScoopState:
         env = sample_environment(self.np_random, self.grain_counts, self.placement_noise,

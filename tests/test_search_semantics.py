@@ -1,0 +1,69 @@
+"""The search's executor runs a program exactly as the behavior file it writes runs in the
+package's runtime: the same steps, and success or failure on the same episodes (Hypothesis over
+programs of the statement grammar)."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from vlb_gym.abstractor.programs import Act, If, Loop, Program
+from vlb_gym.abstractor.search import Search
+from vlb_gym.core.library import BehaviorLibrary, compile_spec
+from vlb_gym.core.runtime import BehaviorPolicy
+from vlb_gym.core.spec import Promise, spec_from_data
+from vlb_gym.verify.episode import run_episode
+from vlb_gym.wrappers.robustness import RobustnessWrapper
+
+GRID_ID = "VLB-GridExplore-v0"
+SENSE = Act("sense", "current_cell()")
+TARGETS = ["current_cell()", "home", "frontier_cells()[0]", "explored()[-1]", "goal_cell()",
+           "beside(current_cell(), 'right')", "[c for c in adjacent() if known_free(c)][0]",
+           "path[-2]"]
+GUARDS = ["goal_found()", "not goal_found()", "len(explored()) < 12", "True",
+          "known_free(beside(current_cell(), 'up'))", "len(path) < 4",
+          "len([c for c in explored() if label(c) == 'goal']) == 0"]
+
+acts = st.one_of(st.just(SENSE), st.sampled_from(TARGETS).map(lambda t: Act("navigate", t)))
+bodies = st.lists(acts, min_size=1, max_size=3).map(tuple)
+statements = st.one_of(
+    acts,
+    st.builds(If, st.sampled_from(GUARDS), bodies.filter(lambda b: len(b) <= 2)),
+    st.builds(Loop, st.sampled_from(GUARDS), bodies, st.one_of(st.none(),
+                                                                st.integers(1, 3))))
+programs = st.builds(lambda first, rest: Program((first, *rest)), acts,
+                     st.lists(statements, max_size=3))
+ANYTHING = Promise(expr="len(primitives()) >= 0")
+
+
+def runtime_steps(document, seed):
+    env = RobustnessWrapper(gym.make(GRID_ID))
+    try:
+        spec = spec_from_data(document, "<program>")
+        compiled = compile_spec(spec, env, "<program>", None, BehaviorLibrary(shipped=False),
+                                names_only=True)
+        result = run_episode(env, BehaviorPolicy(compiled, env.unwrapped), seed, 0)
+    finally:
+        env.close()
+    return result.success, [(s["primitive"], tuple(s["param"])) for s in result.steps]
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(programs, st.integers(0, 2**32 - 1))
+def test_the_executor_and_the_runtime_agree(program, seed):
+    search = Search(GRID_ID, ANYTHING, screen_seed=1)
+    search.executor.max_steps = 500  # the env's own bound, as the runtime has it
+    try:
+        run = search._run(seed, program.statements)
+        held = search.executor.judge(run) is None
+        document = program.document(search.space, "p", "", GRID_ID)
+        document["promise"] = ANYTHING.model_dump()
+        success, steps = runtime_steps(document, seed)
+    finally:
+        search.close()
+    assert held == success, (program.words(), run.reason)
+    if success:
+        assert [(p, tuple(c)) for p, c in run.trace] == steps
+    else:  # a loop that repeats itself is failed by the executor before the step bound
+        assert list(run.trace) == steps[:len(run.trace)]

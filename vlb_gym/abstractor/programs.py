@@ -1,0 +1,246 @@
+"""Structured behaviors -- sequences, conditionals and loops of primitives -- as behavior graphs.
+
+The search (:mod:`vlb_gym.abstractor.search`) enumerates :class:`Program` s: a first
+primitive, then statements, each an :class:`Act` (run a primitive with a parameter
+expression), an :class:`If` (run its acts when a guard holds) or a :class:`Loop` (run its acts
+while a guard holds, at most ``limit`` times when it has one). :meth:`Program.document`
+writes the behavior file that does exactly that: one node per act, edges whose guards, in
+file order, pick the next act, the env's memory variables kept on the way, and a counter
+per loop with a limit. Every node is terminal: where no edge can be taken the behavior has
+finished, and its promise is judged.
+
+An act whose parameter picks from a list (``L[0]``, ``L[-1]``, ``L[argmin(...)]``) is entered
+only when the list is not empty: a loop that moves to the first of a list runs until the list
+is exhausted, a statement that would pick from an empty list is skipped, and inside the acts of
+a loop or a conditional the behavior ends there.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+from vlb_gym.core.search_space import SearchSpace
+
+END = "<end>"
+
+
+@dataclass(frozen=True)
+class Act:
+    """Use ``primitive`` with the parameter expression ``param``."""
+
+    primitive: str
+    param: str
+
+    def words(self) -> str:
+        return f"{self.primitive}({self.param})"
+
+
+@dataclass(frozen=True)
+class Use:
+    """Use the library behavior ``behavior`` as a whole (a node that is a behavior: its promise
+    is judged when it finishes). The memory is not updated by what it runs."""
+
+    behavior: str
+
+    def words(self) -> str:
+        return f"use({self.behavior})"
+
+
+@dataclass(frozen=True)
+class If:
+    """Use ``body`` when ``guard`` holds."""
+
+    guard: str
+    body: tuple[Act, ...]
+
+    def words(self) -> str:
+        return f"if {self.guard}: " + "; ".join(a.words() for a in self.body)
+
+
+@dataclass(frozen=True)
+class Loop:
+    """Use ``body`` while ``guard`` holds, at most ``limit`` times when given."""
+
+    guard: str
+    body: tuple[Act, ...]
+    limit: int | None = None
+
+    def words(self) -> str:
+        if self.guard == "True":
+            head = f"repeat {self.limit} times" if self.limit else "repeat"
+        else:
+            head = f"while {self.guard}" + (f" (at most {self.limit} times)" if self.limit
+                                             else "")
+        return f"{head}: " + "; ".join(a.words() for a in self.body)
+
+
+Statement = Act | Use | If | Loop
+
+
+@dataclass(frozen=True)
+class Program:
+    """A first act, then statements."""
+
+    statements: tuple[Statement, ...]
+
+    def words(self) -> str:
+        return "; ".join(s.words() for s in self.statements)
+
+    def document(self, space: SearchSpace, name: str, description: str, env_id: str
+                 ) -> dict[str, Any]:
+        """The behavior file of this program (see the module's docstring)."""
+        return _Writer(self, space).document(name, description, env_id)
+
+
+def _ids(k: int, body: tuple[Act, ...]) -> list[str]:
+    return [f"s{k}_{j}" for j in range(len(body))]
+
+
+@lru_cache(maxsize=65536)
+def _list_of(param: str) -> str | None:
+    """The list a parameter picks from (``L`` of ``L[...]``), or None."""
+    try:
+        tree = ast.parse(param, mode="eval").body
+    except SyntaxError:
+        return None
+    if isinstance(tree, ast.Subscript) and not isinstance(tree.slice, ast.Slice):
+        return ast.unparse(tree.value)
+    return None
+
+
+def _substitute(text: str, name: str, value: str) -> str:
+    """``text`` with the name ``name`` replaced by the expression ``value``."""
+    return re.sub(rf"(?<![\w']){re.escape(name)}(?![\w'])", f"({value})", text)
+
+
+def conjunction(conditions: list[str]) -> str:
+    parts = [c for c in conditions if c != "True"]
+    if not parts:
+        return "True"
+    if len(parts) == 1:
+        return parts[0]
+    return " and ".join(f"({p})" if _loose(p) else p for p in parts)
+
+
+@lru_cache(maxsize=65536)
+def _loose(text: str) -> bool:
+    """Whether ``text`` binds more loosely than ``and`` (an ``or`` or a conditional)."""
+    try:
+        node = ast.parse(text, mode="eval").body
+    except SyntaxError:
+        return True
+    return isinstance(node, ast.IfExp) or (isinstance(node, ast.BoolOp)
+                                           and isinstance(node.op, ast.Or))
+
+
+class _Writer:
+    def __init__(self, program: Program, space: SearchSpace):
+        self.statements = program.statements
+        self.space = space
+        first = self.statements[0]
+        if not isinstance(first, (Act, Use)):
+            raise ValueError("a program begins with an act or a library behavior")
+
+    def _node(self, k: int, j: int = 0) -> str:
+        return "s0" if k == 0 else f"s{k}_{j}"
+
+    def _acts(self) -> list[tuple[str, Act | Use]]:
+        out = [("s0", self.statements[0])]
+        for k, statement in enumerate(self.statements[1:], 1):
+            body = (statement,) if isinstance(statement, (Act, Use)) else statement.body
+            out += [(self._node(k, j), act) for j, act in enumerate(body)]
+        return out
+
+    def _enter(self, k: int) -> list[tuple[list[str], list[tuple[str, str]], str]]:
+        """Entries (conditions, assignments, node) when the program reaches statement k."""
+        if k == len(self.statements):
+            return [([], [], END)]
+        statement = self.statements[k]
+        if isinstance(statement, Use):
+            return [([], [], self._node(k))]
+        if isinstance(statement, Act):
+            skipped = self._enter(k + 1) if _list_of(statement.param) is not None else []
+            return [([], [], self._node(k))] + skipped
+        if isinstance(statement, If):
+            return [([statement.guard], [], self._node(k))] + self._enter(k + 1)
+        return self._loop(k)
+
+    def _loop(self, k: int) -> list[tuple[list[str], list[tuple[str, str]], str]]:
+        loop = self.statements[k]
+        conditions, into, out = [loop.guard], [], []
+        if loop.limit is not None:
+            counter = f"n{k}"
+            conditions.insert(0, f"{counter} < {loop.limit}")
+            into, out = [(counter, f"{counter} + 1")], [(counter, "0")]
+        exits = [(c, out + s, node) for c, s, node in self._enter(k + 1)]
+        return [(conditions, into, self._node(k))] + exits
+
+    def _after(self, k: int, j: int) -> list[tuple[list[str], list[tuple[str, str]], str]]:
+        """Entries after act j of statement k."""
+        if k == 0:
+            return self._enter(1)
+        statement = self.statements[k]
+        body = (statement,) if isinstance(statement, (Act, Use)) else statement.body
+        if j + 1 < len(body):
+            return [([], [], self._node(k, j + 1))]
+        if isinstance(statement, Loop):
+            return self._loop(k)
+        return self._enter(k + 1)
+
+    def _updates(self, act: Act | Use) -> list[tuple[str, str]]:
+        if isinstance(act, Use):
+            return []
+        return [(m.name, _substitute(update, "PARAM", act.param))
+                for m in self.space.memory for primitive, update in m.updates
+                if primitive == act.primitive]
+
+    def document(self, name: str, description: str, env_id: str) -> dict[str, Any]:
+        acts = dict(self._acts())
+        edges = []
+        for source, act in self._acts():
+            k, j = (0, 0) if source == "s0" else map(int, source[1:].split("_"))
+            negated: list[str] = []
+            for conditions, assignments, target in self._after(k, j):
+                if target == END:
+                    if not conditions:
+                        break
+                    negated.append(f"not ({conjunction(conditions)})")
+                    continue
+                to = acts[target]
+                guard = [*negated, *conditions]
+                picked = None if isinstance(to, Use) else _list_of(to.param)
+                if picked is not None:
+                    guard.append(f"len({picked}) > 0")
+                edge: dict[str, Any] = {"from": source, "to": target}
+                if conjunction(guard) != "True":
+                    edge["guard"] = conjunction(guard)
+                if isinstance(to, Act):
+                    edge["param"] = to.param
+                sets = dict(assignments + self._updates(to))
+                if sets:
+                    edge["set"] = sets
+                edges.append(edge)
+        first = self.statements[0]
+        variables = {}
+        for memory in self.space.memory:
+            initial = memory.initial
+            for primitive, update in memory.updates:
+                if isinstance(first, Act) and primitive == first.primitive:
+                    initial = _substitute(_substitute(update, "PARAM", first.param),
+                                          memory.name, initial)
+            variables[memory.name] = initial
+        for k, statement in enumerate(self.statements):
+            if isinstance(statement, Loop) and statement.limit is not None:
+                variables[f"n{k}"] = "0"
+        return {"name": name, "description": description, "env": env_id,
+                "variables": variables,
+                "nodes": [{"id": node, "behavior": act.behavior} if isinstance(act, Use) else
+                          {"id": node, "primitive": act.primitive} for node, act in acts.items()],
+                "edges": edges,
+                "start": {"node": "s0"} if isinstance(first, Use) else {"node": "s0",
+                                                                         "param": first.param},
+                "terminals": list(acts)}

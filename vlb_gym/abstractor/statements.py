@@ -1,0 +1,135 @@
+"""The statements of searched programs, by cost, from a bank of typed terms.
+
+An act costs 1 plus its parameter's term (a fixed parameter costs nothing more); a conditional
+3 plus its guard and its acts; a loop 2 plus its guard and its acts, plus 1 for a limit (a
+loop without a guard must pick its first act from a list, which ends it, or have a limit). A
+guard costs its term, plus :data:`GUARD` unless it is a reading of the promise: conditions
+the promise suggests come first.
+Bodies hold one to :data:`MAX_BODY` acts. A library behavior, run whole, is a statement of
+cost :data:`USE`. :meth:`Statements.at` lists those of one cost,
+computed once and capped at :data:`MAX_PER_COST`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
+from vlb_gym.core.search_space import SearchSpace
+
+from .programs import Act, If, Loop, Statement, Use, _list_of
+from .terms import Bank
+
+MAX_BODY = 3
+MAX_PER_COST = 40_000
+GUARD = 2  # what a guard that is not a reading of the promise costs more
+USE = 2  # what running a library behavior costs
+
+
+class Statements:
+    """The statements of one search (see the module's docstring)."""
+
+    def __init__(self, bank: Bank, space: SearchSpace, limits: list[int],
+                 behaviors: list[str] | None = None):
+        self.bank = bank
+        self.behaviors = sorted(behaviors or [])
+        self.space = space
+        self.limits = sorted({k for k in limits if 1 <= k <= 20})
+        self._acts: dict[int, list[Act]] = {}
+        self._bodies: dict[tuple[int, int], list[tuple[Act, ...]]] = {}
+        self._statements: dict[int, list[Statement]] = {}
+        self._fixed = {Act(p.primitive, text) for p in space.parameters for text in p.fixed}
+
+    def acts(self, cost: int) -> list[Act]:
+        """Acts of exactly ``cost``."""
+        if cost not in self._acts:
+            out: list[Act] = []
+            for parameter in self.space.parameters:
+                if parameter.kind is None:
+                    if cost == 1:
+                        out += [Act(parameter.primitive, text) for text in parameter.fixed]
+                    continue
+                out += [Act(parameter.primitive, t.text)
+                        for t in self.bank.of(parameter.kind, 0, cost - 1)]
+            self._acts[cost] = out
+        return self._acts[cost]
+
+    def bodies(self, cost: int, length: int) -> list[tuple[Act, ...]]:
+        """Sequences of ``length`` acts of total ``cost``."""
+        key = (cost, length)
+        if key not in self._bodies:
+            if length == 1:
+                out = [(a,) for a in self.acts(cost)]
+            else:
+                out = []
+                for c in range(1, cost - length + 2):
+                    for head in self.acts(c):
+                        out += [(head, *tail) for tail in self.bodies(cost - c, length - 1)
+                                if not (head == tail[0] and head in self._fixed)]
+                        if len(out) > MAX_PER_COST:
+                            break
+            self._bodies[key] = out[:MAX_PER_COST]
+        return self._bodies[key]
+
+    def at(self, cost: int) -> list[Statement]:
+        """Statements of exactly ``cost`` (at most MAX_PER_COST of them)."""
+        if cost not in self._statements:
+            out: list[Statement] = []
+            for statement in self._generate(cost):
+                out.append(statement)
+                if len(out) >= MAX_PER_COST:
+                    break
+            self._statements[cost] = out
+        return self._statements[cost]
+
+    def firsts(self, cost: int) -> list[Statement]:
+        """What a program may begin with, of exactly ``cost``: an act, or a library
+        behavior (cost :data:`USE`)."""
+        return [*self.acts(cost), *(Use(b) for b in self.behaviors if cost == USE)]
+
+    def _generate(self, cost: int) -> Iterator[Statement]:
+        yield from self.acts(cost)
+        if cost == USE:
+            yield from (Use(b) for b in self.behaviors)
+        for length in range(1, MAX_BODY + 1):
+            for body_cost in range(length, cost):
+                bodies = self.bodies(body_cost, length)
+                if not bodies:
+                    continue
+                rest = cost - body_cost
+                if rest == 1:  # a loop over a list, ended by it
+                    yield from (Loop("True", b) for b in bodies if _list_of(b[0].param))
+                if rest == 3 and length <= 2:
+                    yield from (Loop("True", b, k) for k in self.limits for b in bodies)
+                for guard in self.guards(rest - 2):
+                    yield from (Loop(guard, b) for b in bodies)
+                if length <= 2:
+                    for guard in self.guards(rest - 3):
+                        yield from (If(guard, b) for b in bodies)
+
+    def completions(self) -> list[Act]:
+        """Acts to try at once after every prefix: those whose parameter is read from the
+        promise (a place the promise would hold at, the first of the places it would)."""
+        out = []
+        for parameter in self.space.parameters:
+            if parameter.kind is None:
+                continue
+            for term in self.bank.of(parameter.kind, 0):
+                if term.reading or (term.text.endswith("[0]") and _reads(self.bank, term)):
+                    out.append(Act(parameter.primitive, term.text))
+        return out
+
+    def guards(self, cost: int) -> list[str]:
+        """Guards of exactly ``cost`` (see the module's docstring)."""
+        if cost < 1:
+            return []
+        readings = [t.text for t in self.bank.of("bool", 0, cost) if t.reading]
+        return readings + [t.text for t in self.bank.of("bool", 0, cost - GUARD)
+                           if not t.reading]
+
+
+def _reads(bank: Bank, term: Any) -> bool:
+    """Whether ``term`` picks the first of a list read from the promise."""
+    inner = term.text[:-3]
+    return any(t.reading and t.text.strip("()") == inner.strip("()")
+               for t in bank.of(f"list[{term.kind}]", 0))

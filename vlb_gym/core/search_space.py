@@ -1,0 +1,84 @@
+"""What an environment tells the behavior synthesizer about itself: :class:`SearchSpace`.
+
+The synthesizer (:mod:`vlb_gym.abstractor`) searches the behavior language itself -- graphs of
+the env's primitives whose parameters and guards are expressions over its decision helpers --
+and holds no table of its own about any env. An env that can be synthesized for returns a
+:class:`SearchSpace` from :meth:`~vlb_gym.core.env.PrimitiveEnv.search_space`, saying:
+
+* ``types``: the names of the value types its helpers' annotations use (``{"cell":
+  tuple[int, int]}``), so that helper signatures become typed productions of a grammar;
+  ``int``, ``bool``, ``str`` with a closed set of values (a ``Literal`` annotation or
+  ``@helper(one_of=...)``) and lists of any of them are known without saying;
+* ``parameters``: how each primitive is parametrised: by any expression of a type, or by fixed
+  expressions only (a primitive whose one admissible parameter is known);
+* ``constants``: expressions of a type worth trying (a pose that sees the containers);
+* ``memory``: variables every searched behavior keeps, with their initial value and how a
+  primitive updates them (where the agent started, where it has been);
+* ``witnesses``: the least behaviors of the env, in words, against which a promise is tried
+  before any search (a promise they keep asks for nothing);
+* ``beliefs``: for an outcome helper a promise may use, what the agent believes of it, as a
+  decision expression (``"is_goal": "label({0}) == 'goal'"``, ``{0}`` its first argument;
+  ``TARGET`` stands for where the behavior ends: ``here``'s expression when the promise is
+  read as "if I stopped now", a bound variable when read as "if I ended there"). The search
+  reads a promise through them and tries the decision expressions it gets first;
+* ``common``: the decision helpers behaviors of the env use most (a prior: they cost less);
+* ``here``: the kind and expression of where the agent is now (``("cell",
+  "current_cell()")``), what ``TARGET`` is when read now;
+* ``screening``: episodes a candidate runs before it may be certified (fewer where an episode
+  costs seconds of simulation); ``max_steps``: primitives a searched behavior may run in an
+  episode (a candidate that runs longer is not pursued; certification uses the env's own
+  bound).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """How searched behaviors parametrise ``primitive``: by expressions of type ``kind``, or,
+    where ``kind`` is None, by the ``fixed`` expressions only."""
+
+    primitive: str
+    kind: str | None = None
+    fixed: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Memory:
+    """A variable every searched behavior keeps: its ``kind``, its ``initial`` expression, and
+    for a primitive, how running it updates the variable (an expression in which ``PARAM``
+    stands for the parameter just chosen)."""
+
+    name: str
+    kind: str
+    initial: str
+    updates: tuple[tuple[str, str], ...] = ()
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class Witness:
+    """One of an env's least behaviors: ``words`` for the user, and its steps as (primitive,
+    parameter expression) pairs; no steps is the behavior that stops at once."""
+
+    words: str
+    steps: tuple[tuple[str, str], ...] = ()
+
+
+@dataclass(frozen=True)
+class SearchSpace:
+    """An env's declaration for the behavior synthesizer (see the module's docstring)."""
+
+    types: dict[str, Any]
+    parameters: tuple[Parameter, ...]
+    constants: tuple[tuple[str, str], ...] = ()
+    memory: tuple[Memory, ...] = ()
+    witnesses: tuple[Witness, ...] = (Witness("stop at once, doing nothing"),)
+    beliefs: dict[str, str] = field(default_factory=dict)
+    common: tuple[str, ...] = ()
+    here: tuple[str, str] | None = None
+    screening: int = 30
+    max_steps: int | None = None
