@@ -55,7 +55,7 @@ from pathlib import Path
 REPOSITORY = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPOSITORY))
 
-from benchmarks.synthesis_tasks import ENV_ID, TASKS, Task, evaluate  # noqa: E402
+from benchmarks.synthesis_tasks import TASKS, Task, evaluate  # noqa: E402
 from vlb_gym.abstractor.backends import ChatBackend, TranscriptBackend  # noqa: E402
 from vlb_gym.abstractor.certified import (Seeds, certify_promise,  # noqa: E402
                                           synthesize_certified)
@@ -101,7 +101,8 @@ def _accept(promise: Promise, witnesses: list[str]) -> bool:
 
 
 def attempt(task: Task, backend: ChatBackend | None, model: str, sample: int, folder: Path,
-            budgets: list[int] | None = None, seeds: Seeds | None = None) -> Sample:
+            budgets: list[int] | None = None, seeds: Seeds | None = None,
+            workers: int = 1) -> Sample:
     """Run the pipeline for ``task`` once (with ``backend``, or with the task's own promise
     where it is None), save its transcript (and behavior), and check a certified behavior
     against the task on its certification episodes (``budgets`` and ``seeds``: a replay's, see
@@ -112,10 +113,11 @@ def attempt(task: Task, backend: ChatBackend | None, model: str, sample: int, fo
     if backend is None:
         promise = Promise(expr=task.promise or "", description="")
         got = certify_promise(task.env_id, task.description, promise, _accept, task.name,
-                              seeds=seeds, budgets=budgets, library=library)
+                              seeds=seeds, budgets=budgets, library=library, workers=workers)
     else:
         got = synthesize_certified(task.env_id, task.description, backend, _accept, task.name,
-                                   seeds=seeds, budgets=budgets, library=library)
+                                   seeds=seeds, budgets=budgets, library=library,
+                                   workers=workers)
     seconds = got.transcript["seconds"]  # the pipeline's wall time, as the transcript says
     got.transcript["task"] = task.name
     write_atomic(stem.with_suffix(".transcript.json"), json.dumps(got.transcript, indent=2) + "\n")
@@ -173,7 +175,7 @@ def run_models(args: argparse.Namespace, tasks: list[Task]) -> list[Sample]:
                 if backend is not None:
                     backend.temperature = 0.0 if sample == 0 else SAMPLE_TEMPERATURE
                     backend.seed = sample
-                record = attempt(task, backend, model, sample, folder)
+                record = attempt(task, backend, model, sample, folder, workers=args.workers)
                 samples.append(record)
                 print(f"{model} {task.name} #{sample}: promise {record.promise!r}; "
                       f"{'certified: ' + record.candidate if record.certified else 'not certified'}"
@@ -306,6 +308,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--only", nargs="+", metavar="NAME", help="run only these tasks")
     parser.add_argument("--list", action="store_true", help="print the selected tasks and stop")
     parser.add_argument("--samples", type=int, default=1)
+    parser.add_argument("--workers", type=int, default=1,
+                        help="processes running each certification campaign")
     parser.add_argument("--max-tokens", type=int, default=400)
     parser.add_argument("--out", type=Path)
     args = parser.parse_args(argv)

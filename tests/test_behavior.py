@@ -278,12 +278,12 @@ def test_helpers_read_only_the_observation(grid_env):
     assert helpers.frontier_cells() == [(1, 1), (1, 2)]  # known, free, an unexplored neighbour
     assert helpers.manhattan((1, 1), (4, 3)) == 5
     assert helpers.beside((1, 1), "up") == (1, 2) and helpers.beside((0, 0), "left") is None
-    assert helpers.known_free((1, 2)) and not helpers.known_free((5, 5))
-    assert not helpers.known_free(None)
+    assert helpers.is_free((1, 2)) and not helpers.is_free((5, 5))
+    assert not helpers.is_free(None)
     with pytest.raises(ValueError, match="not one of"):
         helpers.beside((1, 1), "north")
     described = helpers.describe()
     assert {name.split("(")[0] for name in described} == {
         "explored", "adjacent", "goal_found", "goal_cell", "current_cell", "label",
-        "frontier_cells", "manhattan", "beside", "known_free"}
+        "frontier_cells", "manhattan", "beside", "is_free"}
     assert all(text for text in described.values())

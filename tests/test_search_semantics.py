@@ -19,10 +19,10 @@ from vlb_gym.wrappers.robustness import RobustnessWrapper
 GRID_ID = "VLB-GridExplore-v0"
 SENSE = Act("sense", "current_cell()")
 TARGETS = ["current_cell()", "home", "frontier_cells()[0]", "explored()[-1]", "goal_cell()",
-           "beside(current_cell(), 'right')", "[c for c in adjacent() if known_free(c)][0]",
+           "beside(current_cell(), 'right')", "[c for c in adjacent() if is_free(c)][0]",
            "path[-2]"]
 GUARDS = ["goal_found()", "not goal_found()", "len(explored()) < 12", "True",
-          "known_free(beside(current_cell(), 'up'))", "len(path) < 4",
+          "is_free(beside(current_cell(), 'up'))", "len(path) < 4",
           "len([c for c in explored() if label(c) == 'goal']) == 0"]
 
 acts = st.one_of(st.just(SENSE), st.sampled_from(TARGETS).map(lambda t: Act("navigate", t)))

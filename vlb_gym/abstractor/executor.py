@@ -19,13 +19,16 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from vlb_gym.core.budget import Budget, EvaluationLimitError
-from vlb_gym.core.expressions import Expression, ExpressionError, guard_namespace
+from vlb_gym.core.expressions import BUILTINS, Expression, guard_namespace
+from vlb_gym.core.helpers import arity
 from vlb_gym.core.promise import Claim, Episode, Judging
 from vlb_gym.core.search_space import SearchSpace
+from vlb_gym.core.signatures import BUILTIN_SIGNATURES, helper_signatures
+from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import Act, If, Loop, Statement, Use, _list_of, _substitute
+from .programs import Act, If, Statement, Use, _list_of, _substitute
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
 
@@ -83,39 +86,31 @@ class Executor:
         self.max_steps = max_steps
         self.helpers = interface.make_helpers()
         self.budget = Budget()
-        self.names: dict[str, int | None] = {}
-        self._static = self.budget.charging(self.helpers.functions())
+        functions = self.helpers.functions()
+        self._static = self.budget.charging(functions)
+        self._names = {**{n: None for n in BUILTINS}, **{n: arity(f) for n, f in functions.items()},
+                       **{m.name: -1 for m in space.memory}, **{f"n{k}": -1 for k in range(16)}}
+        self._signatures = {**BUILTIN_SIGNATURES, **helper_signatures(functions)}
         self._expressions: dict[str, Expression] = {}
         self.promise = Expression(promise.expr, self._judge_names(), "promise")
         self.claim = Claim("candidate", self.promise, promise.description, 0)
         self._closeness = Closeness(promise.expr, self._judge_names())
         self._judging = Judging(interface)
-        self._judge = interface.make_judge()
-        self._judge_budget = Budget()
-        self._judge_namespace = guard_namespace(
-            self._judge_budget.charging(self._judge.functions()), self._judge_budget)
         self.executed = 0  # statements run
 
     def _judge_names(self) -> dict[str, int | None]:
-        from vlb_gym.core.expressions import BUILTINS
-        from vlb_gym.core.helpers import arity
-
         judge_helpers = self.interface.make_judge().functions()
         return {**{n: None for n in BUILTINS}, **{n: arity(f) for n, f in judge_helpers.items()}}
 
     # -- expressions -----------------------------------------------------------------------
     def expression(self, text: str) -> Expression:
-        """``text`` checked and compiled once (ExpressionError if it is not well formed)."""
+        """``text`` checked (the expression language's whitelist and limits, then the type
+        check) and compiled once; ExpressionError if it is not well formed."""
         found = self._expressions.get(text)
         if found is None:
-            from vlb_gym.core.expressions import BUILTINS
-            from vlb_gym.core.helpers import arity
-
-            names = {**{n: None for n in BUILTINS},
-                     **{n: arity(f) for n, f in self.helpers.functions().items()},
-                     **{m.name: -1 for m in self.space.memory},
-                     **{f"n{k}": -1 for k in range(16)}}
-            found = self._expressions[text] = Expression(text, names, text)
+            found = Expression(text, self._names, text)
+            typecheck(text, self._signatures, text)
+            self._expressions[text] = found
         return found
 
     def _value(self, text: str, namespace: dict[str, Any]) -> Any:
@@ -172,9 +167,10 @@ class Executor:
         if run.status == FAILED:
             return 0.0
         self.interface.load(run.saved)
-        self._judge.bind(Episode(self.interface.state, run.history, run.reset_info))
-        self._judge_budget.new_episode()
-        return self._closeness(self._judge_namespace)
+        judging = self._judging
+        judging.helpers.bind(Episode(self.interface.state, run.history, run.reset_info))
+        judging.new_episode()
+        return self._closeness(judging.namespace)
 
     def _namespace(self, observation: Any, run: Run) -> dict[str, Any]:
         self.helpers.bind(observation)

@@ -26,7 +26,6 @@ import itertools
 import re
 import secrets
 import time
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -47,6 +46,9 @@ from .terms import Bank, Vocabulary, call_name, conforms, contexts, infer_kind
 
 PROBES = 4
 PROGRESS_WEIGHT = 4.0
+STEP_WEIGHT = 0.05
+LOOK_FURTHER = 0.5  # of the programs built before the first find, built after it
+LOOK_FURTHER_MIN = 1000
 MAX_STATEMENTS = 4
 MAX_LEVEL = 24
 MAX_FAILURES_KEPT = 5
@@ -90,10 +92,16 @@ class _Node:
     runs: list[Run]
     progress: float = 0.0  # how close it comes to the promise on the probes, in [0, 1]
 
+    @property
+    def steps(self) -> float:
+        """The primitives it runs per probe episode, on average."""
+        return sum(len(r.history) for r in self.runs) / max(len(self.runs), 1)
+
     def priority(self, level: int) -> float:
         """The order of this node's children of statement cost ``level``: their cost, less
-        :data:`PROGRESS_WEIGHT` times how close their parent comes to the promise."""
-        return self.cost + level - PROGRESS_WEIGHT * self.progress
+        :data:`PROGRESS_WEIGHT` times how close their parent comes to the promise, plus
+        :data:`STEP_WEIGHT` per primitive it runs (a behavior that does less comes first)."""
+        return self.cost + level - PROGRESS_WEIGHT * self.progress + STEP_WEIGHT * self.steps
 
 
 class Search:
@@ -219,9 +227,13 @@ class Search:
     # -- the search ----------------------------------------------------------------------------
     def find(self, time_limit: float = 120.0, max_programs: int | None = None,
              skip: frozenset[str] = frozenset()) -> Found | None:
-        """The cheapest program (skipping those whose words are in ``skip``) that keeps the
+        """The least program (skipping those whose words are in ``skip``) that keeps the
         promise on every screening episode, or None within ``time_limit`` seconds or
-        ``max_programs`` programs built."""
+        ``max_programs`` programs built. Once one is found, the search goes on for
+        :data:`LOOK_FURTHER` of the programs built so far (at least :data:`LOOK_FURTHER_MIN`):
+        of those found, the one that runs the fewest primitives on the screening episodes is
+        kept (a promise seldom asks for more than it says: not "explore everything" where
+        "explore until a goal is known" keeps it), the cheapest on a tie."""
         started = time.perf_counter()
         statements = self.statements()
         completions = statements.completions()
@@ -229,11 +241,14 @@ class Search:
         root = _Node((), 0, [])
         heap: list[tuple[float, int, _Node, int, int]] = [(1, next(order), root, 1, 0)]
         seen: set[Any] = set()
+        best: tuple[int, int, Found] | None = None
+        until: int | None = None  # programs built when the search stops looking further
         try:
             while heap:
                 if time.perf_counter() - started > time_limit or (
-                        max_programs is not None and self.tally.built >= max_programs):
-                    return None
+                        max_programs is not None and self.tally.built >= max_programs) or (
+                        until is not None and self.tally.built >= until):
+                    break
                 priority, _, node, level, index = heapq.heappop(heap)
                 items = statements.firsts(level) if not node.program else statements.at(level)
                 if index + 1 < len(items):
@@ -246,28 +261,33 @@ class Search:
                 child = self._child(node, items[index], node.cost + level, seen)
                 if child is None:
                     continue
-                found = self._accept(child, skip)
-                if found is not None:
-                    return found
+                grown = [child]
                 if len(child.program) < MAX_STATEMENTS and any(
                         r.status == OPEN for r in child.runs):
                     heapq.heappush(heap, (child.priority(1), next(order), child, 1, 0))
-                    for act in completions if child.program else ():
-                        done = self._child(child, act, child.cost + 1, seen)
-                        found = done and self._accept(done, skip)
-                        if found:
-                            return found
+                    grown += [done for act in (completions if child.program else ())
+                              if (done := self._child(child, act, child.cost + 1, seen))]
+                for candidate in grown:
+                    steps = self._accept(candidate, skip)
+                    if steps is None:
+                        continue
+                    if best is None or (steps, candidate.cost) < best[:2]:
+                        best = (steps, candidate.cost, Found(Program(candidate.program),
+                                                             candidate.cost))
+                    if until is None:
+                        built = self.tally.built
+                        until = built + max(LOOK_FURTHER_MIN, int(built * LOOK_FURTHER))
         finally:
             self.tally.seconds += time.perf_counter() - started
             self.tally.executed = self.executor.executed
-        return None
+        return None if best is None else best[2]
 
-    def _accept(self, node: _Node, skip: frozenset[str]) -> Found | None:
-        """``node``'s program if it keeps the promise on every screening episode."""
-        program = Program(node.program)
-        if node.progress == 1.0 and program.words() not in skip and self._whole(node):
-            return Found(program, node.cost)
-        return None
+    def _accept(self, node: _Node, skip: frozenset[str]) -> int | None:
+        """The primitives ``node``'s program runs on the screening episodes if it keeps the
+        promise on every one, else None."""
+        if node.progress < 1.0 or Program(node.program).words() in skip:
+            return None
+        return self._whole(node)
 
     def _child(self, node: _Node, statement: Statement, cost: int, seen: set[Any]
                ) -> _Node | None:
@@ -294,16 +314,20 @@ class Search:
         progress = sum(self.executor.progress(r) for r in runs) / len(runs)
         return _Node((*node.program, statement), cost, runs, progress)
 
-    def _whole(self, node: _Node) -> bool:
-        """Whether ``node``'s program, ending there, keeps the promise on every screening
-        episode (the probes' runs first, then the rest from their resets)."""
+    def _whole(self, node: _Node) -> int | None:
+        """The primitives ``node``'s program, ending there, runs on the screening episodes if
+        it keeps the promise on every one (the probes' runs were judged; the rest run from
+        their resets), else None."""
         self.tally.judged += 1
+        steps = sum(len(r.history) for r in node.runs)
         for seed in self.seeds[PROBES:]:
-            why = self.executor.judge(self._run(seed, node.program))
+            run = self._run(seed, node.program)
+            why = self.executor.judge(run)
             if why is not None:
                 self._note(node, why)
-                return False
-        return True
+                return None
+            steps += len(run.history)
+        return steps
 
     def _note(self, node: _Node, why: str) -> None:
         if len(self.tally.failures) < MAX_FAILURES_KEPT:
@@ -335,17 +359,3 @@ class Search:
         finally:
             env.close()
         return None
-
-
-def search_once(env_id: str, promise: Promise, request: str = "", time_limit: float = 120.0,
-                screen_seed: int | None = None,
-                progress: Callable[[Tally], None] | None = None) -> tuple[Found | None, Search]:
-    """Find a program for ``promise`` (a convenience for one-off use and tests)."""
-    search = Search(env_id, promise, request, screen_seed=screen_seed)
-    try:
-        found = search.find(time_limit)
-    finally:
-        search.close()
-    if progress is not None:
-        progress(search.tally)
-    return found, search

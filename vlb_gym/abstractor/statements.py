@@ -50,7 +50,8 @@ class Statements:
                         out += [Act(parameter.primitive, text) for text in parameter.fixed]
                     continue
                 out += [Act(parameter.primitive, t.text)
-                        for t in self.bank.of(parameter.kind, 0, cost - 1)]
+                        for t in self.bank.of(parameter.kind, 0, cost - 1)
+                        if t.text not in parameter.idle]
             self._acts[cost] = out
         return self._acts[cost]
 
@@ -115,6 +116,8 @@ class Statements:
             if parameter.kind is None:
                 continue
             for term in self.bank.of(parameter.kind, 0):
+                if term.text in parameter.idle:
+                    continue
                 if term.reading or (term.text.endswith("[0]") and _reads(self.bank, term)):
                     out.append(Act(parameter.primitive, term.text))
         return out

@@ -275,8 +275,12 @@ def compile_behavior(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
     expr = _Expressions(spec, interface, source)
     out_edges: dict[str, list[_Edge]] = {n: [] for n in nodes}
     for i, edge in enumerate(spec.edges):
+        guard = expr(edge.guard, f"edges[{i}].guard")
+        if expr.returns is not None and expr.returns.kind == "generator":
+            raise expr.fail(f"edges[{i}].guard", f"{edge.guard!r} is a generator, not true or "
+                                                 "false (write any(...) or all(...))")
         out_edges[edge.source].append(_Edge(
-            edge.source, edge.to, expr(edge.guard, f"edges[{i}].guard"),
+            edge.source, edge.to, guard,
             expr(edge.param, f"edges[{i}].param"),
             tuple((v, expr(t, f"edges[{i}].set.{v}")) for v, t in edge.set.items())))
     compiled[source] = CompiledBehavior(

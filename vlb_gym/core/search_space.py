@@ -39,11 +39,13 @@ from typing import Any
 @dataclass(frozen=True)
 class Parameter:
     """How searched behaviors parametrise ``primitive``: by expressions of type ``kind``, or,
-    where ``kind`` is None, by the ``fixed`` expressions only."""
+    where ``kind`` is None, by the ``fixed`` expressions only; never by an ``idle`` one (a
+    parameter with which the primitive does nothing, such as moving to where the agent is)."""
 
     primitive: str
     kind: str | None = None
     fixed: tuple[str, ...] = ()
+    idle: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,8 @@ expression -- int, float, bool, None, str (with its possible values when known),
   string where it takes a number, ...);
 * ordering values that have no order between them (``known_cells() > 3``, a cell against a
   number, anything against None);
-* summing a list of what is not a number (``sum(moves())``, a list of cells).
+* summing a list of what is not a number (``sum(moves())``, a list of cells);
+* ``bool()`` of a generator (always True); a generator is a *generator*, never a condition.
 
 Whatever it cannot infer is *unknown* and accepted: behavior variables (``set`` may change them)
 and function arguments are unknown, unions (``Cell | None``) are unknown, and so is any
@@ -29,6 +30,8 @@ from typing import Any
 from .expressions import ExpressionError
 from .signatures import (BOOL, BUILTIN_SIGNATURES, FLOAT, INT, NONE, NUMBERS, STR, TUPLE,
                          Signature, Type, Unknown)
+
+GENERATOR = Type("generator")  # ``(x for x in xs)``: only any, all, sum, min, max ... take one
 
 
 class TypeCheckError(ExpressionError):
@@ -198,7 +201,7 @@ class _Inference:
             item = self.infer(node.elt)
         finally:
             self.scopes.pop()
-        return Type("list", item=item) if isinstance(node, ast.ListComp) else Unknown
+        return Type("list", item=item) if isinstance(node, ast.ListComp) else GENERATOR
 
     _ListComp = _GeneratorExp = _comprehension
 
@@ -210,6 +213,8 @@ class _Inference:
         sig = self.signatures.get(name)
         if sig is None:
             return Unknown
+        if name == "bool" and args and args[0] is not None and args[0].kind == "generator":
+            self.fail(node, "bool() of a generator is always True: write any(...) or all(...)")
         given = len(node.args)
         if given < sig.min_args or (sig.max_args is not None and given > sig.max_args):
             if sig.max_args is None:

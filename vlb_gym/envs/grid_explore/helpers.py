@@ -124,12 +124,12 @@ class GridHelpers(Helpers):
         return (i, j) if 0 <= i < self.size and 0 <= j < self.size else None
 
     @helper
-    def known_free(self, cell: Cell | None) -> bool:
+    def is_free(self, cell: Cell | None) -> bool:
         """Whether ``cell`` is known to be free: labelled 'empty' or 'goal' (None, outside the
         grid, is not)."""
         if cell is None:
             return False
-        return self._labels[self._index(cell, "known_free")] in _FREE
+        return self._labels[self._index(cell, "is_free")] in _FREE
 
     @helper(one_of=LABEL_NAMES)
     def label(self, cell: Cell) -> str:
