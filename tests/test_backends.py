@@ -16,6 +16,8 @@ import pytest
 
 from tests import backend_tasks as tasks
 from vlb_gym.verify.backends import BACKENDS, gc_paused, run_indices
+from vlb_gym.verify.campaign import Remaining
+from vlb_gym.verify.chunks import count
 
 ROOT = Path(__file__).resolve().parent.parent
 SQUARES = [(i, i * i) for i in range(200)]
@@ -133,6 +135,20 @@ def test_process_worker_death_one_worker_keeps_order(tmp_path):
 def test_process_retry_cap_names_the_index():
     with pytest.raises(RuntimeError, match="index 7: its run killed the worker process 3 times"):
         list(run_indices(tasks.dies_always, range(20), backend="process", workers=2))
+
+
+@pytest.mark.parametrize("backend", ["serial", "process"])
+def test_counts_past_the_index_size_are_python_integers(backend):
+    """10**20 indices (past 2**63, where ``len()`` overflows): the work starts, in order from
+    0 on one worker, and stops when the caller does."""
+    huge = 10 ** 20
+    stream = run_indices(tasks.squares, range(huge), backend=backend, workers=1)
+    assert [next(stream) for _ in range(3)] == [(0, 0), (1, 1), (2, 4)]
+    stream.close()
+    assert count(range(huge)) == huge and count(range(huge, 0, -3)) == -(-huge // 3)
+    assert count(Remaining(huge, frozenset({0, 5}))) == huge - 2
+    assert [count(range(a, b, c)) for a, b, c in [(0, 0, 1), (5, 1, 1), (0, 10, 3)]] == [
+        len(range(a, b, c)) for a, b, c in [(0, 0, 1), (5, 1, 1), (0, 10, 3)]]
 
 
 def test_process_close_stops_workers():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from decimal import Decimal, localcontext
 from fractions import Fraction
 
 import pytest
@@ -174,6 +175,30 @@ def test_min_episodes_known_values():
     assert min_episodes(0.05, 0.95, 1) == 93
     # eps=0.5, conf=0.75: 1 - 0.5**2 = 0.75 exactly
     assert min_episodes(0.5, 0.75) == 2
+
+
+def exact_miss(n: int, k: int, eps: float) -> Decimal:
+    """P[Binomial(n, eps) <= k] to 60 digits, eps taken exactly as the float it is."""
+    with localcontext() as context:
+        context.prec = 60
+        e = Decimal(eps)
+        term = (1 - e) ** n
+        total = term
+        for j in range(k):
+            term = term * (n - j) / (j + 1) * e / (1 - e)
+            total += term
+        return total
+
+
+@pytest.mark.parametrize("eps, conf, k", [
+    (0.5, 0.999999999999, 40), (1e-3, 1 - 1e-15, 200), (1e-10, 0.99, 1), (1e-10, 0.999999, 5),
+    (0.05, 1 - 1e-14, 0), (0.2, 0.999999999999999, 3)])
+def test_min_episodes_is_exact_where_the_confidence_has_no_digits_left(eps, conf, k):
+    """Against 60-digit arithmetic: N keeps the miss probability within 1 - confidence, and
+    N - 1 does not (a confidence near 1 compared as a float once printed N short)."""
+    n = min_episodes(eps, conf, k)
+    allowed = 1 - Decimal(conf)
+    assert exact_miss(n, k, eps) <= allowed < exact_miss(n - 1, k, eps)
 
 
 def test_min_episodes_increases_with_failures():

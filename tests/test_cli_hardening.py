@@ -12,6 +12,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 
@@ -27,6 +28,8 @@ from vlb_gym.verify.campaign import Campaign, CampaignConfig
 from vlb_gym.verify.report import Report
 from vlb_gym.verify.episode import EpisodeResult
 from vlb_gym.verify.export import read_export
+
+from .test_bounds import exact_miss
 
 from .conftest import EXAMPLES
 
@@ -401,7 +404,9 @@ def test_plan_with_tiny_epsilon_returns(capsys):
     assert main(["plan", "--epsilon", "1e-30", "--confidence", "0.99", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["episodes"] == 4605170185988084757070680245862
     assert main(["plan", "--epsilon", "1e-19", "--confidence", "0.99", "--failures", "1"]) == 0
-    assert capsys.readouterr().out.startswith("66383520679938150401 episodes")
+    n = int(capsys.readouterr().out.split()[0])  # conservative, and within a relative 1e-14
+    allowed = 1 - Decimal(0.99)  # of the least N (floats' resolution), against 60 digits
+    assert exact_miss(n, 1, 1e-19) <= allowed < exact_miss(n - n // 10 ** 14, 1, 1e-19)
 
 
 def test_plan_past_the_float_range_is_a_usage_error(capsys):
@@ -588,3 +593,22 @@ def test_an_agent_zip_without_an_agent_is_one_line(tmp_path, capsys):
     assert main(["verify", "VLB-GridExplore-FindGoal-v0", "--policy", str(agent),
                  "--episodes", "3", "--epsilon", "0.1"]) == 2
     one_line_error(capsys, "agent.zip: not a saved maskable_ppo agent")
+
+
+def test_workers_never_import_the_files_where_a_campaign_runs(tmp_path):
+    """A ``random.py`` and a ``signal.py`` in the folder a 2-worker campaign runs in are not
+    imported by its workers (the forkserver started them with '' first on their path)."""
+    marker = tmp_path / "imported"
+    for name in ("random", "signal"):
+        (tmp_path / f"{name}.py").write_text(
+            f"open({str(marker)!r}, 'a').write('{name} ')\nraise SystemExit(3)\n")
+    # as the `vlb` script starts: its own folder, not the current one, first on the path
+    launcher = "import sys; sys.path.pop(0); from vlb_gym.cli import main; sys.exit(main())"
+    proc = subprocess.run(
+        [sys.executable, "-c", launcher, "verify", "VLB-GridExplore-v0", "--behavior",
+         "explore_until_goal", "--episodes", "8", "--epsilon", "0.3", "--workers", "2"],
+        cwd=tmp_path, capture_output=True, text=True, timeout=300,
+        env={k: v for k, v in os.environ.items() if k != "PYTHONSAFEPATH"})
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "successes 8/8" in proc.stdout
+    assert not marker.exists(), marker.read_text()

@@ -247,3 +247,27 @@ def test_vlb_verify_refuses_a_hostile_promise_in_one_line(tmp_path, capsys, prom
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "\x1b" not in err and "Traceback" not in err
     assert f"{path}: {words}" in err
+
+
+def test_every_promise_judged_in_an_episode_shares_its_budget(grid_env, user_library,
+                                                             monkeypatch):
+    """A parent that runs a child again and again, the child's promise each time costly: the
+    judgements together stay within one episode's budget (a fresh budget per judgement let
+    one episode run for minutes), and the episode fails on it, naming the budget."""
+    import vlb_gym.core.budget as budget
+
+    monkeypatch.setattr(budget, "MAX_EPISODE_WORK", 3 * budget.MAX_WORK)  # a short test
+    library = BehaviorLibrary()
+    library.save(spec_from_data({**SENSE_ONCE, "promise": {
+        "expr": "len([a for a in reachable_cells() for b in reachable_cells() if a != b]) > 0",
+        "description": "costly"}}, "<child>"))
+    parent = {"name": "parent", "description": "the child, a thousand times",
+              "env": "VLB-GridExplore-v0", "variables": {"n": "0"},
+              "nodes": [{"id": "child", "behavior": "sense_once"}],
+              "edges": [{"from": "child", "to": "child", "guard": "n < 1000",
+                         "set": {"n": "n + 1"}}],
+              "start": {"node": "child"}, "terminals": ["child"]}
+    policy = behavior(grid_env, None, parent, library)
+    result = run_episode(grid_env, policy, 0)
+    assert not result.success and "EvaluationLimitError" in result.reason, result.reason
+    assert result.cause == "sense_once: promise" and 2 <= result.primitives < 60

@@ -39,6 +39,7 @@ from pathlib import Path
 
 from vlb_gym.core.files import InputFileError, read_json_file, write_atomic
 from vlb_gym.core.library import BehaviorLibrary
+from vlb_gym.verify.backends import safe_import_path
 from vlb_gym.verify.bounds import floor_str
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 from vlb_gym.verify.policies import PolicyRef
@@ -186,7 +187,8 @@ def _train_runs(runs: list[Run], jobs: int, *args) -> Iterator[tuple[Run, list[d
     threads = max(1, (os.cpu_count() or 1) // jobs)
     with ProcessPoolExecutor(jobs, mp_context=get_context("spawn"), initializer=_share_threads,
                              initargs=(threads,)) as pool:
-        futures = {pool.submit(_train_run, run, *args): run for run in runs}
+        with safe_import_path():  # the workers start as the jobs are submitted
+            futures = {pool.submit(_train_run, run, *args): run for run in runs}
         for future in as_completed(futures):
             yield futures[future], *future.result()
 

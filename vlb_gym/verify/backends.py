@@ -26,7 +26,7 @@ import traceback
 from collections.abc import Callable, Iterable, Iterator, Sequence, Sized
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from .chunks import ChunkQueue
+from .chunks import ChunkQueue, count
 
 if TYPE_CHECKING:
     from .ray_connect import RayOptions
@@ -97,7 +97,8 @@ def start_forkserver(preload: Sequence[str]) -> None:
     from multiprocessing import forkserver
 
     context.set_forkserver_preload(list(preload))
-    forkserver.ensure_running()
+    with safe_import_path():
+        forkserver.ensure_running()
 
 
 def check_main_guard() -> None:
@@ -174,6 +175,24 @@ def _context() -> Any:
     return mp.get_context("spawn")
 
 
+@contextlib.contextmanager
+def safe_import_path() -> Iterator[None]:
+    """While worker interpreters start (a forkserver, spawned processes): Python's safe-path
+    mode for them (``PYTHONSAFEPATH``, Python 3.11+), so that the folder a command runs in is
+    not put first on their import path -- a ``random.py`` or ``signal.py`` among the files where
+    a campaign runs is never imported; their path is then the parent's own. This process's
+    environment is as it was afterwards."""
+    saved = os.environ.get("PYTHONSAFEPATH")
+    os.environ["PYTHONSAFEPATH"] = "1"
+    try:
+        yield
+    finally:
+        if saved is None:
+            os.environ.pop("PYTHONSAFEPATH", None)
+        else:
+            os.environ["PYTHONSAFEPATH"] = saved
+
+
 def _portable(exc: BaseException) -> BaseException:
     """``exc`` if it pickles, else a RuntimeError that describes it."""
     try:
@@ -236,7 +255,8 @@ class _Worker:
         self.report = report
         self.process = context.Process(target=_worker_main, args=(child, self.current, setup),
                                        name=_WORKER_NAME + report, daemon=True)
-        self.process.start()
+        with safe_import_path():  # (the forkserver, if this starts it)
+            self.process.start()
         child.close()
         self.started = False
         self.chunks: collections.deque[list[int]] = collections.deque()
@@ -266,18 +286,18 @@ def _process(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], wo
     context = _context()
     if preload and context.get_start_method() == "forkserver":
         context.set_forkserver_preload(list(preload))
-    todo = ChunkQueue(indices, len(indices), workers)
+    todo = ChunkQueue(indices, count(indices), workers)
     deaths: collections.Counter[int] = collections.Counter()
     idle_deaths = 0  # deaths in a row outside any run (during setup, or killed while idle)
-    remaining = len(indices)
+    remaining = count(indices)
     folder = tempfile.mkdtemp(prefix="vlb-workers-")
     pool: list[_Worker] = []
     finished = False
 
-    count = iter(range(1 << 62))
+    numbers = iter(range(1 << 62))
 
     def start() -> _Worker:
-        worker = _Worker(context, setup, os.path.join(folder, f"{next(count)}.guard"))
+        worker = _Worker(context, setup, os.path.join(folder, f"{next(numbers)}.guard"))
         pool.append(worker)
         return worker
 

@@ -66,7 +66,17 @@ def _tail(n: int, k: int, epsilon: float, upper: bool) -> float:
     from scipy.stats import binom  # here, not at the top: it takes 0.4 s to import (campaign
     # workers and the CLI import this module; a campaign without failures never needs scipy)
     tail = binom.sf if upper else binom.cdf
-    return float(tail(float(k), float(n), epsilon))  # scipy takes no integers past 2**63
+    # scipy takes floats, which past 2**53 are not every integer: n rounded down and k up
+    # understate the confidence and overstate the miss probability, never the other way
+    return float(tail(_float(k, up=True), _float(n, up=False), epsilon))
+
+
+def _float(count: int, up: bool) -> float:
+    """``count`` as the nearest float above it (``up``) or below it."""
+    near = float(count)
+    if near == count or (near > count) == up:
+        return near
+    return math.nextafter(near, math.inf if up else 0.0)
 
 
 def lower_bound(n: int, k: int, delta: float) -> float:
@@ -94,13 +104,26 @@ def min_episodes(epsilon: float, target_confidence: float, failures: int = 0) ->
     if not _integer(failures) or failures < 0:
         raise ValueError(f"failures must be a non-negative integer (got {failures!r})")
 
+    allowed = _complement(target_confidence)
+
     def reaches(n: int) -> bool:
-        return confidence(n, failures, epsilon) >= target_confidence
+        if failures == 0 or target_confidence <= 0.5:  # (no failures: from one logarithm)
+            return confidence(n, failures, epsilon) >= target_confidence
+        # the miss probability, computed directly, against 1 - target: scipy's confidence
+        # near 1 has no digits left to tell N from a much smaller one
+        return miss_probability(n, failures, epsilon) <= allowed
 
     if failures == 0:
         guess = math.ceil(Fraction(math.log1p(-target_confidence)) / Fraction(math.log1p(-epsilon)))
         return _least(reaches, guess, 1)
     return _least(reaches, failures + 1, failures + 1)
+
+
+def _complement(probability: float) -> float:
+    """``1 - probability`` as the largest float not above the exact difference."""
+    exact = 1 - Fraction(probability)
+    below = float(exact)
+    return below if Fraction(below) <= exact else math.nextafter(below, 0.0)
 
 
 def _least(reaches: Callable[[int], bool], guess: int, lowest: int) -> int:

@@ -206,8 +206,13 @@ class Remaining:
     def __iter__(self) -> Iterator[int]:
         return (i for i in range(self.total) if i not in self.done)
 
-    def __len__(self) -> int:
+    @property
+    def size(self) -> int:
+        """How many (a Python integer: ``len()`` cannot pass 2**63 - 1)."""
         return self.total - len(self.done)
+
+    def __len__(self) -> int:
+        return self.size
 
 
 def lightened(result: EpisodeResult) -> EpisodeResult:

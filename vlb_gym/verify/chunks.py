@@ -4,7 +4,21 @@ from __future__ import annotations
 
 import collections
 import itertools
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Sequence, Sized
+
+
+def count(indices: Sized) -> int:
+    """How many indices there are, as a Python integer: ``len()`` past 2**63 - 1
+    (``--episodes 10**20``) overflows, so a range's is computed from its ends and a collection
+    with a ``size`` gives that."""
+    size = getattr(indices, "size", None)
+    if isinstance(size, int):
+        return size
+    if isinstance(indices, range):
+        if indices.step > 0:
+            return max(0, -(-(indices.stop - indices.start) // indices.step))
+        return max(0, -(-(indices.start - indices.stop) // -indices.step))
+    return len(indices)
 
 
 def chunk_size(count: int, workers: int) -> int:
@@ -55,7 +69,7 @@ class ChunkQueue:
 
 def chunks(indices: Sequence[int], workers: int) -> list[list[int]]:
     """Every chunk :class:`ChunkQueue` cuts ``indices`` into, in order."""
-    queue = ChunkQueue(indices, len(indices), workers)
+    queue = ChunkQueue(indices, count(indices), workers)
     out = []
     while queue:
         out.append(queue.popleft())

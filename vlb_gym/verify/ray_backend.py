@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
 from .backends import IN_FLIGHT, RemoteTraceback, freeze_setup, gc_paused, one_core_each
-from .chunks import ChunkQueue
+from .chunks import ChunkQueue, count
 from .ray_connect import NOTES, ClusterError, RayOptions, error_line, session
 
 T = TypeVar("T")
@@ -72,7 +72,7 @@ def local_cpus() -> int:
 
 def run_on_ray(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], workers: int,
                options: RayOptions, max_deaths: int) -> Iterator[T]:
-    with session(options, min(workers, len(indices), local_cpus())) as ray:
+    with session(options, min(workers, count(indices), local_cpus())) as ray:
         yield from _Run(ray, setup, indices, workers, options, max_deaths).results()
 
 
@@ -82,7 +82,7 @@ class _Run:
     def __init__(self, ray: Any, setup: Callable[[], Any], indices: Sequence[int], workers: int,
                  options: RayOptions, max_deaths: int) -> None:
         self.ray, self.options, self.max_deaths = ray, options, max_deaths
-        self.remaining = len(indices)
+        self.remaining = count(indices)
         free = self.free_cpus()
         self.workers = max(1, min(workers, free, self.remaining))
         if self.remaining and free < 1:
@@ -91,7 +91,7 @@ class _Run:
         elif self.workers < min(workers, self.remaining):
             NOTES.warning(f"--workers {workers} reduced to {self.workers} (the Ray cluster "
                           f"has {free} free CPU(s))")
-        self.todo = ChunkQueue(indices, len(indices), max(self.workers, 1))
+        self.todo = ChunkQueue(indices, count(indices), max(self.workers, 1))
         self.actors: list[_Actor] = []
         self.owner: dict[Any, _Actor] = {}  # a chunk's ref -> its actor
         self.pending: dict[Any, _Actor] = {}  # an actor's ready() ref -> the actor
