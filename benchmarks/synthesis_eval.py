@@ -213,6 +213,16 @@ def replay(folder: Path, tasks: list[Task], cap: int | None = None) -> list[Samp
     return samples
 
 
+def read_samples(path: Path) -> list[Sample]:
+    """The samples a run wrote to ``results.csv`` (its figures as recorded)."""
+    kinds = {"difficulty": int, "sample": int, "promises": int, "requests": int,
+             "certified": lambda v: v == "True", "episodes": int, "verified": int, "done": int,
+             "judged": int, "faithful": int, "seconds": float}
+    with path.open(newline="") as handle:
+        return [Sample(**{k: kinds.get(k, str)(v) for k, v in row.items()})
+                for row in csv.DictReader(handle)]
+
+
 def _outcomes(transcript: dict) -> list:
     """What a replay must reproduce: the promises, the behaviors found, the consensus and the
     certifications."""

@@ -1,9 +1,12 @@
-"""The committed real-model transcripts of the certified-synthesis evaluation replay, offline, to
-the outcome the live run recorded (benchmarks/results/synthesis), and the harness's options."""
+"""The committed real-model results of the certified-synthesis evaluation
+(benchmarks/results/synthesis): the table is the recorded samples', each certified behavior
+reproduces its figures on its certificate's campaign, and (marked slow) each transcript replays
+offline to the outcome the live run recorded; and the harness's options."""
 
 from __future__ import annotations
 
 import csv
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -14,18 +17,11 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from benchmarks.synthesis_eval import replay, tables  # noqa: E402
-from benchmarks.synthesis_tasks import TASKS  # noqa: E402
+from benchmarks.synthesis_eval import read_samples, replay, tables  # noqa: E402
+from benchmarks.synthesis_tasks import TASKS, evaluate  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results" / "synthesis"
 HARNESS = ROOT / "benchmarks" / "synthesis_eval.py"
-
-
-@pytest.fixture(scope="module")
-def replayed():
-    # exits if a transcript ends otherwise than it did; searches that found nothing are
-    # replayed over their first 200 candidates (the harness's --replay replays them in full)
-    return replay(RESULTS, list(TASKS), cap=200)
 
 
 def live_rows() -> dict[tuple[str, str, int], dict[str, str]]:
@@ -33,8 +29,37 @@ def live_rows() -> dict[tuple[str, str, int], dict[str, str]]:
         return {(r["model"], r["task"], int(r["sample"])): r for r in csv.DictReader(handle)}
 
 
-def test_every_live_sample_replays_to_its_recorded_outcome(replayed):
+def test_the_committed_table_is_the_recorded_samples():
+    samples = read_samples(RESULTS / "results.csv")
+    assert {s.task for s in samples} == {t.name for t in TASKS}
+    assert tables(samples) == (RESULTS / "results.md").read_text()
+
+
+def test_every_certified_behavior_reproduces_its_recorded_figures(tmp_path):
+    """Each committed certified behavior, run on its certificate's campaign (seed and N), is
+    verified, does the task and keeps its promise faithfully as often as the table says."""
+    tasks = {t.name: t for t in TASKS}
+    certified = [s for s in read_samples(RESULTS / "results.csv") if s.certified]
+    assert certified
+    for sample in certified:
+        path = RESULTS / sample.model / f"{sample.task}-{sample.sample}.json"
+        certificate = json.loads(path.read_text())["certificate"]
+        assert (certificate["episodes"], certificate["successes"]) == \
+            (sample.episodes, sample.verified)
+        outcome = evaluate(tasks[sample.task], path, certificate["episodes"],
+                           certificate["seed"], library_dir=tmp_path)
+        assert (outcome.episodes, outcome.verified, outcome.task_done, outcome.judged,
+                outcome.faithful) == (sample.episodes, sample.verified, sample.done,
+                                      sample.judged, sample.faithful), sample.task
+
+
+@pytest.mark.slow
+def test_every_live_sample_replays_to_its_recorded_outcome():
+    """The whole pipeline again from each transcript (the model's replies as recorded, the
+    searches to their recorded budgets): the same promises, behaviors and figures (about as
+    long as the live run's searches: benchmarks/synthesis_eval.py --replay does the same)."""
     live = live_rows()
+    replayed = replay(RESULTS, list(TASKS))
     assert len(replayed) == len(live) >= len(TASKS)
     for sample in replayed:
         row = live[(sample.model, sample.task, sample.sample)]
@@ -43,10 +68,6 @@ def test_every_live_sample_replays_to_its_recorded_outcome(replayed):
         assert (sample.episodes, sample.verified, sample.done, sample.judged,
                 sample.faithful) == tuple(int(row[k]) for k in (
                     "episodes", "verified", "done", "judged", "faithful"))
-
-
-def test_the_committed_table_is_the_replayed_one(replayed):
-    assert tables(replayed) == (RESULTS / "results.md").read_text()
 
 
 def harness(*args: str) -> subprocess.CompletedProcess:
@@ -132,7 +153,6 @@ def test_task_files_are_satisfiable_faithful_and_checkable(tmp_path, folder):
     """Each grid reference keeps its task's faithful promise and does the task on every episode
     (promise and check agree), and a behavior that only senses does not do every task (the
     scooping references of heldout2 run in benchmarks/, a few seconds an episode)."""
-    import json
 
     from benchmarks.synthesis_eval import load_tasks
     from benchmarks.synthesis_tasks import evaluate, task_named
@@ -159,9 +179,6 @@ def test_task_files_are_satisfiable_faithful_and_checkable(tmp_path, folder):
 
 def test_the_development_promises_are_faithful(tmp_path):
     """The 13 development tasks' promises: each reference keeps its own."""
-    import json
-
-    from benchmarks.synthesis_tasks import evaluate
 
     for task in TASKS:
         document = json.loads(task.reference.read_text())
