@@ -70,7 +70,7 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     library = Path(__import__("tempfile").mkdtemp(prefix="no-user-behaviors-"))
     lines = [f"`python benchmarks/search_speed.py{' --tasks ' + str(args.tasks) if args.tasks else ''}"
-             f" --repeats {args.repeats}`: {platform.machine()}, "
+             f" --repeats {args.repeats} --time-limit {args.time_limit:g}`: {platform.machine()}, "
              f"{__import__('os').cpu_count()} CPUs, Python {platform.python_version()}; "
              f"medians of {args.repeats} searches (screening seeds 0..{args.repeats - 1}), one "
              "process, one core", "",

@@ -51,19 +51,25 @@ import tempfile
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, Field, ValidationError
 
 REPOSITORY = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPOSITORY))
 
 from benchmarks.synthesis_tasks import TASKS, Task, evaluate  # noqa: E402
-from vlb_gym.abstractor.backends import ChatBackend, TranscriptBackend  # noqa: E402
+from vlb_gym.abstractor.backends import (BackendError, ChatBackend,  # noqa: E402
+                                         TranscriptBackend)
 from vlb_gym.abstractor.certified import (Seeds, certify_promise,  # noqa: E402
                                           synthesize_certified)
 from vlb_gym.core.library import BehaviorLibrary  # noqa: E402
 from vlb_gym.core.spec import Promise  # noqa: E402
-from vlb_gym.core.files import write_atomic  # noqa: E402
+from vlb_gym.core.files import (InputFileError, load_json, read_limited,  # noqa: E402
+                                write_atomic)
 
 SAMPLE_TEMPERATURE = 0.7
+MAX_REPLAYED_PROGRAMS = 10_000_000  # a transcript's search budget a replay accepts
 
 
 @dataclass
@@ -191,15 +197,19 @@ def replay(folder: Path, tasks: list[Task], cap: int | None = None) -> list[Samp
     by_name = {task.name: task for task in tasks}
     samples, mismatches = [], []
     for path in sorted(folder.glob("*/*.transcript.json")):
-        saved = json.loads(path.read_text())
+        saved = _saved_transcript(path)
         task = by_name.get(saved.get("task"))
         if task is None or "drafts" not in saved or "seeds" not in saved:
             continue
-        sample = int(path.name.removesuffix(".transcript.json").rsplit("-", 1)[1])
+        sample = _sample_number(path)
         budgets = [f["built"] if f["program"] or cap is None else min(f["built"], cap)
                    for f in saved["finds"]]
         seeds = Seeds(list(saved["seeds"]["screen"]), list(saved["seeds"]["certify"]))
-        backend = None if saved["pipeline"] == "promise" else TranscriptBackend.from_file(path)
+        try:
+            backend = None if saved["pipeline"] == "promise" else \
+                TranscriptBackend.from_file(path)
+        except BackendError as exc:
+            sys.exit(str(exc))
         with tempfile.TemporaryDirectory() as scratch:
             record = attempt(task, backend, path.parent.name, sample, Path(scratch), budgets,
                              seeds)
@@ -211,6 +221,61 @@ def replay(folder: Path, tasks: list[Task], cap: int | None = None) -> list[Samp
     if mismatches:
         sys.exit("replay differs from the live run: " + ", ".join(map(str, mismatches)))
     return samples
+
+
+class _Find(BaseModel):
+    built: int = Field(ge=0, le=MAX_REPLAYED_PROGRAMS)
+    program: str | None
+
+
+class _SavedSeeds(BaseModel):
+    screen: list[Annotated[int, Field(ge=0, lt=2 ** 64)]] = Field(max_length=100)
+    certify: list[Annotated[int, Field(ge=0, lt=2 ** 64)]] = Field(max_length=100)
+
+
+class _Draft(BaseModel):
+    promise: Any
+    rounds: list[Any] = Field(max_length=100)
+
+
+class _Saved(BaseModel):
+    """What a replay reads of a transcript (the replies are the pipeline's own to check)."""
+
+    task: str
+    pipeline: Literal["promise", "intent-first"]
+    drafts: list[_Draft] = Field(max_length=100)
+    finds: list[_Find] = Field(max_length=100)
+    consensus: list[Any] = Field(max_length=100)
+    certifications: list[Any] = Field(max_length=100)
+    seeds: _SavedSeeds
+
+
+def _saved_transcript(path: Path) -> dict[str, Any]:
+    """A transcript to replay, read as untrusted input (a regular file of bounded size and
+    nesting, the fields a replay uses checked); a problem ends the run in one line naming
+    the file. A transcript of an older format (no seeds) is returned as it is, to be
+    skipped."""
+    try:
+        saved = load_json(read_limited(path, what="transcript"), str(path))
+        if isinstance(saved, dict) and "seeds" not in saved:
+            return saved
+        _Saved.model_validate(saved)
+        return saved
+    except ValidationError as exc:
+        error = exc.errors()[0]
+        place = ".".join(str(p) for p in error["loc"]) or "the document"
+        sys.exit(f"{path}: {place}: {error['msg']}")
+    except json.JSONDecodeError as exc:
+        sys.exit(f"{path}: not valid JSON: {exc}")
+    except (InputFileError, ValueError, OSError) as exc:
+        sys.exit(f"{path}: not a transcript to replay: {exc}"[:500])
+
+
+def _sample_number(path: Path) -> int:
+    tail = path.name.removesuffix(".transcript.json").rsplit("-", 1)[-1]
+    if not tail.isdigit() or len(tail) > 6:
+        sys.exit(f"{path}: a transcript's name ends in -SAMPLE.transcript.json, a number")
+    return int(tail)
 
 
 def read_samples(path: Path) -> list[Sample]:
@@ -314,7 +379,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--timeout", type=float, default=900.0, metavar="SECONDS",
                         help="seconds per request to a served model")
     parser.add_argument("--tasks", type=Path, metavar="FILE.py",
-                        help="a task file defining TASKS (default: the shipped development set)")
+                        help="a task file defining TASKS (default: the shipped development "
+                             "set); it is Python, executed as it is read: run only files you "
+                             "trust")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="run only these tasks")
     parser.add_argument("--list", action="store_true", help="print the selected tasks and stop")
     parser.add_argument("--samples", type=int, default=1)

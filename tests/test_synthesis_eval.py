@@ -19,6 +19,7 @@ if str(ROOT) not in sys.path:
 
 from benchmarks.synthesis_eval import read_samples, replay, tables  # noqa: E402
 from benchmarks.synthesis_tasks import TASKS, evaluate  # noqa: E402
+from vlb_gym.abstractor.backends import TranscriptBackend  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results" / "synthesis"
 HARNESS = ROOT / "benchmarks" / "synthesis_eval.py"
@@ -145,7 +146,9 @@ def test_the_harness_evaluates_a_served_model(tmp_path):
         ("served_m", "sense_once", "True", "112", "112")
     assert len(server.requests) == 5 and server.requests[0]["max_tokens"] == 400
     assert "keeps it" in server.requests[1]["messages"][-1]["content"]
-    assert (tmp_path / "served_m" / "sense_once-0.transcript.json").is_file()
+    transcript = tmp_path / "served_m" / "sense_once-0.transcript.json"
+    # a replay asks in the order the live run did: the witnessed redraft after its draft
+    assert len(TranscriptBackend.from_file(transcript).replies) == 5
 
 
 @pytest.mark.parametrize("folder", ["heldout2", "dev_general", "heldout"])
@@ -187,3 +190,51 @@ def test_the_development_promises_are_faithful(tmp_path):
         path.write_text(json.dumps(document))
         out = evaluate(task, path, 10)
         assert (out.verified, out.task_done, out.faithful) == (10, 10, 10), task.name
+
+
+GOOD_TRANSCRIPT = {"task": "sense_once", "pipeline": "promise", "drafts": [], "finds": [],
+                   "consensus": [], "certifications": [], "seeds": {"screen": [], "certify": []}}
+
+
+@pytest.mark.parametrize("kind, words", [
+    ("fifo", "not a regular file"),
+    ("zero", "not a regular file"),
+    ("text", "not valid JSON"),
+    ("deep", "nested"),
+    ("pipeline", "pipeline: Input should be 'promise' or 'intent-first'"),
+    ("budget", "finds.0.built: Input should be less than or equal to 10000000"),
+    ("seed", "seeds.screen.0: Input should be greater than or equal to 0"),
+    ("replies", "not a vlb synthesize transcript"),
+    ("name", "a number"),
+])
+def test_a_hostile_transcript_ends_the_replay_in_one_line(tmp_path, kind, words):
+    import json
+    import os
+
+    folder = tmp_path / "runs" / "m"
+    folder.mkdir(parents=True)
+    path = folder / ("x-y.transcript.json" if kind == "name" else "sense_once-0.transcript.json")
+    bad = dict(GOOD_TRANSCRIPT)
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "zero":
+        path.symlink_to("/dev/zero")
+    elif kind == "text":
+        path.write_text("{not json")
+    elif kind == "deep":
+        path.write_text("[" * 100_000 + "]" * 100_000)
+    else:
+        if kind == "pipeline":
+            bad["pipeline"] = "graph"
+        elif kind == "budget":
+            bad["finds"] = [{"built": 10 ** 30, "program": None}]
+        elif kind == "seed":
+            bad["seeds"] = {"screen": [-1], "certify": []}
+        elif kind == "replies":
+            bad["pipeline"] = "intent-first"
+            bad["drafts"] = [{"promise": None, "rounds": [{"reply": 5}]}]
+        path.write_text(json.dumps(bad))
+    proc = harness("--replay", str(tmp_path / "runs"), "--out", str(tmp_path / "out"))
+    assert proc.returncode == 1 and "Traceback" not in proc.stderr, proc.stderr
+    (line,) = proc.stderr.strip().splitlines()
+    assert str(path) in line and words in line, line

@@ -104,13 +104,16 @@ class ScriptedBackend:
 
 class TranscriptBackend(ScriptedBackend):
     """Replays the raw replies recorded in a ``vlb synthesize`` transcript (a graph-first one's
-    ``rounds``, or an intent-first one's ``drafts`` and their rounds)."""
+    ``rounds``, or an intent-first one's ``drafts``: each draft's rounds, then those of its
+    witnessed redraft, in the order they were asked)."""
 
     @classmethod
     def from_file(cls, path: str | Path) -> TranscriptBackend:
         data = _load_file(path, "transcript")
         try:
-            rounds = ([r for d in data["drafts"] for r in d["rounds"]]
+            rounds = ([r for d in data["drafts"]
+                       for r in d["rounds"] + (d["witnessed"]["rounds"] if "witnessed" in d
+                                               else [])]
                       if isinstance(data, dict) and "drafts" in data else data["rounds"])
             replies = [r["reply"] for r in rounds]
             if not all(r is None or isinstance(r, str) for r in replies):

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import ast
 import typing
+import warnings
 from functools import lru_cache
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
@@ -180,7 +181,9 @@ class Bank:
     def _values(self, text: str, bound: int, kind: str) -> tuple[Any, ...] | None:
         code = self._code.get(text)
         if code is None:
-            code = self._code[text] = compile(text, "<term>", "eval")
+            with warnings.catch_warnings():  # "'int' object is not subscriptable" for a
+                warnings.simplefilter("ignore", SyntaxWarning)  # constant: it fails below
+                code = self._code[text] = compile(text, "<term>", "eval")
         out: list[Any] = []
         for pairs in self._bindings(bound, kind, text):
             for namespace in pairs:
