@@ -250,6 +250,41 @@ def test_cli_shows_the_least_behavior_that_keeps_a_weak_promise(tmp_path):
     assert not (tmp_path / "s.json").exists()
 
 
+def test_cli_yes_takes_no_promise_a_least_behavior_keeps_unless_told(tmp_path):
+    """A request to find a goal with a promise that standing still keeps: --yes certifies
+    nothing (the least behavior would be certified); --trivial-ok, for a request that asks
+    for no more, certifies it."""
+    request, weak = "Find a goal, then come back to where you started.", "final_cell() == start_cell()"
+    proc = vlb("synthesize", GRID_ID, request, "--certify", "--promise", weak, "--yes",
+               "--out", str(tmp_path / "w.json"))
+    assert proc.returncode == 1 and "not accepted: --yes takes no promise" in proc.stdout
+    assert "not confirmed" in proc.stdout and not (tmp_path / "w.json").exists()
+    proc = vlb("synthesize", GRID_ID, "Sense once where you stand.", "--certify", "--promise",
+               "primitives() == ['sense']", "--yes", "--trivial-ok",
+               "--out", str(tmp_path / "s.json"))
+    assert proc.returncode == 0 and "accepted (--yes)" in proc.stdout, proc.stdout
+    assert json.loads((tmp_path / "s.json").read_text())["certificate"]["successes"] == 112
+
+
+def test_a_declined_model_promise_gives_way_to_the_next_ranked():
+    """The model's promises are confirmed in rank order: one declined, the next is asked."""
+    other = Promise(expr="goal_found() and final_cell() == start_cell()",
+                    description="a goal is known, and it ended where it began")
+    backend = ScriptedBackend([reply(HOME), reply(other)])
+    asked = []
+
+    def only_the_second(promise, witnesses):
+        asked.append(promise.expr)
+        return len(asked) > 1
+
+    got = synthesize_certified(GRID_ID, REQUEST, backend, only_the_second, drafts=2,
+                               seeds=Seeds(**SEEDS))
+    assert len(asked) == 2 and got.certified and got.promise.expr == asked[1]
+    nobody = synthesize_certified(GRID_ID, REQUEST, ScriptedBackend([reply(HOME)]),
+                                  lambda p, w: False, drafts=1, seeds=Seeds(**SEEDS))
+    assert nobody.declined and not nobody.certified
+
+
 @pytest.mark.parametrize("args, words", [
     (["--certify", "--promise", "goal_found("], "--promise: syntax error"),
     (["--certify", "--promise", "len(moves())"], "not true or false"),

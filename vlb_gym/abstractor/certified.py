@@ -219,18 +219,31 @@ def synthesize_certified(env_id: str, request: str, backend: ChatBackend, confir
                 score = sum(weights[k] * (1 if kept[k] else 2) for k in keeps)
                 ranked.append((-score, keeps[0], result, keeps))
         ranked.sort(key=lambda r: (r[0], r[1]))
-        for _, first, result, _ in ranked[:ATTEMPTS]:
+        declined: list[int] = []  # promises (their searches' indices) the user declined
+        for _, _, result, keeps in ranked:
+            if len(transcript["certifications"]) >= ATTEMPTS:
+                break
+            first = None  # the earliest promise it keeps that the user confirms
+            for k in keeps:
+                if k in declined:
+                    continue
+                if confirm(run.searches[k].promise, kept[k]):
+                    first = k
+                    break
+                declined.append(k)  # a declined promise gives way to the next
+            if first is None:
+                continue
             search = run.searches[first]
-            promise = search.promise
-            if not confirm(promise, kept[first]):
-                transcript["declined"] = promise.model_dump()
-                return _ended(request, promise, None, None, True, transcript, started,
-                              kept[first])
             document, certification = run.certify(search, result)
             if certification is not None and certification.passed:
                 document["certificate"] = certification.certificate.model_dump()
-                return _ended(request, promise, document, result.program.words(), False,
-                              transcript, started, kept[first])
+                return _ended(request, search.promise, document, result.program.words(),
+                              False, transcript, started, kept[first])
+        if declined and not transcript["certifications"]:
+            promise = run.searches[declined[0]].promise
+            transcript["declined"] = promise.model_dump()
+            return _ended(request, promise, None, None, True, transcript, started,
+                          kept[declined[0]])
         promise = promises[0] if promises else None
         return _ended(request, promise, None, None, False, transcript, started,
                       kept[0] if kept else [])

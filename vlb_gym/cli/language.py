@@ -123,6 +123,11 @@ def confirm_promise(args: argparse.Namespace) -> Any:
             print(f"  a behavior that keeps this promise: {witnesses[0]}; is that what you "
                   "meant? (a promise that a behavior doing this little keeps asks for nothing "
                   "more)")
+        if args.yes and witnesses and not args.trivial_ok:
+            print("  not accepted: --yes takes no promise that a least behavior keeps (it asks "
+                  "for nothing more than that); answer when asked, or add --trivial-ok if the "
+                  "request asks for no more")
+            return False
         if args.yes:
             print("  accepted (--yes)")
             return True
@@ -354,6 +359,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "and a search finds a behavior that certifies it on fresh seeds")
     y.add_argument("--yes", action="store_true",
                    help="with --certify: accept the promise without asking")
+    y.add_argument("--trivial-ok", action="store_true",
+                   help="with --yes: accept also a promise that one of the env's least "
+                   "behaviors keeps (a request that asks for no more, e.g. 'sense once')")
     y.add_argument("--promise", metavar="EXPR",
                    help="with --certify: the promise itself, an expression over the env's "
                    "outcome helpers (no model is asked); it is type-checked, tried on the "
