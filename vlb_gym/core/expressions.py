@@ -26,6 +26,7 @@ the process never hangs or runs out of memory.
 from __future__ import annotations
 
 import ast
+import difflib
 import warnings
 from collections.abc import Mapping
 from typing import Any
@@ -116,12 +117,26 @@ class _Checker(ast.NodeVisitor):
         if not self._bound(node.id) and node.id not in self.names:
             self.fail(node, f"unknown name {node.id!r}")
 
+    def _nearest(self, name: str) -> str:
+        """The functions that might have been meant: the nearest by spelling, and the env's
+        helpers and the behavior's functions (the builtins are documented once for all);
+        nothing for a name no one could mean (``__import__``)."""
+        if name.startswith("_"):
+            return ""
+        functions = sorted(n for n, arity in self.names.items()
+                           if arity != -1 and not n.startswith("_"))
+        near = difflib.get_close_matches(name, functions, n=1, cutoff=0.6)
+        helpers = [n for n in functions if n not in BUILTINS]
+        return ((f"; did you mean {near[0]!r}?" if near else "")
+                + (f" (functions here: {', '.join(helpers)})" if helpers else ""))
+
     def visit_Call(self, node: ast.Call) -> None:
         if not isinstance(node.func, ast.Name):
             self.fail(node, "only helpers called by plain name are allowed")
         name = node.func.id
         if name.startswith("_") or self._bound(name) or name not in self.names:
-            self.fail(node, f"call to {name!r}, which is not a whitelisted function")
+            self.fail(node, f"call to {name!r}, which is not a whitelisted function"
+                            f"{self._nearest(name)}")
         arity = self.names[name]
         if arity == -1:
             self.fail(node, f"{name!r} is a value, not a function")

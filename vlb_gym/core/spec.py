@@ -23,7 +23,9 @@ names only the environment's outcome helpers, never the behavior's own variables
 
 from __future__ import annotations
 
+import difflib
 import json
+import typing
 import unicodedata
 from pathlib import Path
 from typing import Annotated, Any
@@ -200,10 +202,41 @@ def validated(model: type[_Model], data: Any, source: str, prefix: str = "") -> 
     except ValidationError as exc:
         errors = exc.errors()
         lines = [f"{source}: {_place((prefix, *err['loc']) if prefix else err['loc'])}: "
-                 f"{err['msg']}" for err in errors[:MAX_ERRORS_SHOWN]]
+                 f"{err['msg']}{_suggestion(model, err)}" for err in errors[:MAX_ERRORS_SHOWN]]
         if len(errors) > MAX_ERRORS_SHOWN:
             lines.append(f"{source}: ... and {len(errors) - MAX_ERRORS_SHOWN} more problems")
         raise BehaviorSpecError("\n".join(lines), "schema") from None
+
+
+def _suggestion(model: type[BaseModel], error: Any) -> str:
+    """For a key the schema does not know, the nearest one it does at that place."""
+    if error["type"] != "extra_forbidden" or not error["loc"]:
+        return ""
+    here: Any = model
+    a_key = False  # the next part is a key of a dict field
+    for part in error["loc"][:-1]:
+        if isinstance(part, int) or a_key:
+            a_key = False
+            continue
+        field = next((f for n, f in here.model_fields.items() if part in (n, f.alias)), None)
+        here = _model_in(field.annotation) if field is not None else None
+        if here is None:
+            return ""
+        a_key = typing.get_origin(field.annotation) is dict
+    known = [name for n, f in here.model_fields.items() for name in (f.alias or n,)]
+    near = difflib.get_close_matches(str(error["loc"][-1]), known, n=1, cutoff=0.6)
+    return f" (did you mean {near[0]!r}?)" if near else f" (known here: {', '.join(known)})"
+
+
+def _model_in(annotation: Any) -> type[BaseModel] | None:
+    """The model class inside ``annotation`` (``list[Node]``, ``Promise | None``, ...)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for inner in typing.get_args(annotation):
+        found = _model_in(inner)
+        if found is not None:
+            return found
+    return None
 
 
 def json_schema() -> dict[str, Any]:
