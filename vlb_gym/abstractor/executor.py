@@ -92,15 +92,13 @@ class Executor:
                        **{m.name: -1 for m in space.memory}, **{f"n{k}": -1 for k in range(16)}}
         self._signatures = {**BUILTIN_SIGNATURES, **helper_signatures(functions)}
         self._expressions: dict[str, Expression] = {}
-        self.promise = Expression(promise.expr, self._judge_names(), "promise")
-        self.claim = Claim("candidate", self.promise, promise.description, 0)
-        self._closeness = Closeness(promise.expr, self._judge_names())
         self._judging = Judging(interface)
+        judge_names = {**{n: None for n in BUILTINS},
+                       **{n: arity(f) for n, f in self._judging.helpers.functions().items()}}
+        self.promise = Expression(promise.expr, judge_names, "promise")
+        self.claim = Claim("candidate", self.promise, promise.description, 0)
+        self._closeness = Closeness(promise.expr, judge_names)
         self.executed = 0  # statements run
-
-    def _judge_names(self) -> dict[str, int | None]:
-        judge_helpers = self.interface.make_judge().functions()
-        return {**{n: None for n in BUILTINS}, **{n: arity(f) for n, f in judge_helpers.items()}}
 
     # -- expressions -----------------------------------------------------------------------
     def expression(self, text: str) -> Expression:

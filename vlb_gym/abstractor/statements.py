@@ -15,10 +15,10 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
-from vlb_gym.core.search_space import SearchSpace
+from vlb_gym.core.search_space import Parameter, SearchSpace
 
 from .programs import Act, If, Loop, Statement, Use, _list_of
-from .terms import Bank
+from .terms import Bank, Term
 
 MAX_BODY = 3
 MAX_PER_COST = 40_000
@@ -50,10 +50,14 @@ class Statements:
                         out += [Act(parameter.primitive, text) for text in parameter.fixed]
                     continue
                 out += [Act(parameter.primitive, t.text)
-                        for t in self.bank.of(parameter.kind, 0, cost - 1)
-                        if t.text not in parameter.idle]
+                        for t in self._parameters(parameter, cost - 1)]
             self._acts[cost] = out
         return self._acts[cost]
+
+    def _parameters(self, parameter: Parameter, cost: int | None = None) -> list[Term]:
+        """The terms ``parameter``'s primitive may take (of ``cost``, or any): its kind's,
+        but none with which the primitive would do nothing."""
+        return [t for t in self.bank.of(parameter.kind, 0, cost) if t.text not in parameter.idle]
 
     def bodies(self, cost: int, length: int) -> list[tuple[Act, ...]]:
         """Sequences of ``length`` acts of total ``cost``."""
@@ -115,9 +119,7 @@ class Statements:
         for parameter in self.space.parameters:
             if parameter.kind is None:
                 continue
-            for term in self.bank.of(parameter.kind, 0):
-                if term.text in parameter.idle:
-                    continue
+            for term in self._parameters(parameter):
                 if term.reading or (term.text.endswith("[0]") and _reads(self.bank, term)):
                     out.append(Act(parameter.primitive, term.text))
         return out
