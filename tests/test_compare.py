@@ -7,6 +7,7 @@ import itertools
 from pathlib import Path
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -154,10 +155,29 @@ def test_a_sequential_plan_that_cannot_decide_says_so():
 
 
 @pytest.mark.parametrize("margin, alpha, pairs", [(-0.1, 0.05, 10), (1.0, 0.05, 10),
-                                                 (0.1, 0.0, 10), (0.1, 0.05, 0)])
+                                                 (0.1, 0.0, 10), (0.1, 0.05, 0),
+                                                 (0.0, 0.5, 10), (0.0, 0.6, 10)])
 def test_bad_settings_are_refused(margin, alpha, pairs):
     with pytest.raises(ValueError):
         paired_methods.FixedPairs(margin, alpha, pairs)
+
+
+@given(margin=st.floats(1e-9, 0.999, allow_nan=False))
+def test_the_claim_states_the_margin_exactly_as_given(margin):
+    """Rounded, a margin would state another claim (0.01234561 shown as 0.0123456 claims
+    more): the words carry the number that round-trips to it."""
+    words = paired.claim_words(margin)
+    shown = re.search(r"P_A - (\S+)\)", words).group(1)
+    assert float(shown) == margin
+
+
+def test_cli_alpha_of_one_half_or_more_is_one_error_line(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["compare", GRID, "explore_until_goal", "explore_until_goal", "--pairs", "5",
+              "--alpha", "0.6"])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and "0.6 is not below 0.5" in err
+    assert len(err.strip().splitlines()) == 1
 
 
 # ------------------------------------------------------------------------------- comparisons

@@ -69,6 +69,16 @@ def level(text: str) -> float:
     return value
 
 
+def comparison_level(text: str) -> float:
+    """A test's level (``vlb compare --alpha``): a :func:`level` below one half."""
+    value = level(text)
+    if value >= 0.5:
+        raise argparse.ArgumentTypeError(
+            f"{text} is not below 0.5: a test wrong with probability one half or more shows "
+            "nothing (and its interval would be empty)")
+    return value
+
+
 def fraction(text: str) -> float:
     """A number in [0, 1]."""
     try:

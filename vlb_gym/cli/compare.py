@@ -8,8 +8,8 @@ import sys
 from vlb_gym.core.files import write_atomic
 
 from .common import (UsageError, add_backend_options, add_env_kwarg, check_output,
-                     clamp_workers, count, env_kwargs, env_modules, fraction_below_one, level,
-                     named_policy, ray_options)
+                     clamp_workers, comparison_level, count, env_kwargs, env_modules,
+                     fraction_below_one, named_policy, ray_options)
 from .verify import backend_failed, check_run_args, open_store, progress
 
 
@@ -104,7 +104,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="with --sequential: stop undecided after M pairs (default 5000)")
     c.add_argument("--margin", type=fraction_below_one, default=0.0, metavar="M",
                    help="0: test P_B > P_A; above 0: test P_B > P_A - M (non-inferiority)")
-    c.add_argument("--alpha", type=level, default=0.05,
+    c.add_argument("--alpha", type=comparison_level, default=0.05,
                    help="the probability of a wrong decision (the test's level)")
     c.add_argument("--seed", type=count(0), default=0,
                    help="the pairs' reset seeds derive from it (as vlb verify's episodes)")

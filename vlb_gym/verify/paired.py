@@ -97,11 +97,21 @@ def check_margin(margin: float) -> None:
         raise ValueError(f"margin must lie in [0, 1) (got {margin!r})")
 
 
+def check_alpha(alpha: float) -> None:
+    """A comparison's level: in (0, 1/2), where a test is wrong less often than not and its
+    two-sided interval (each bound at 1 - alpha) cannot be empty."""
+    if not isinstance(alpha, (int, float)) or isinstance(alpha, bool) \
+            or not 0 < alpha < 0.5 or 1.0 - alpha == 1.0:
+        raise ValueError(f"alpha must lie strictly between 0 and 0.5 (got {alpha!r}): a test "
+                         "wrong with probability one half or more shows nothing")
+
+
 def claim_words(margin: float) -> str:
-    """The alternative hypothesis in words."""
+    """The alternative hypothesis in words (the margin exactly as given: rounded, it would
+    state another claim)."""
     if margin == 0:
         return "B is more reliable than A (P_B > P_A)"
-    return f"B is at least as reliable as A up to {margin:g} (P_B > P_A - {margin:g})"
+    return f"B is at least as reliable as A up to {margin!r} (P_B > P_A - {margin!r})"
 
 
 # ------------------------------------------------------------------------------- fixed N

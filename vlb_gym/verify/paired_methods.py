@@ -14,7 +14,7 @@ from typing import Any
 
 from . import bounds
 from .methods import Decider
-from .paired import (BETS, SEQUENTIAL_TEST, PairCounts, anytime_bounds, check_margin,
+from .paired import (BETS, SEQUENTIAL_TEST, PairCounts, anytime_bounds, check_alpha, check_margin,
                      claim_words, log_wealth, mcnemar_p, unconditional_bounds, unconditional_p)
 
 
@@ -26,7 +26,7 @@ class PairedMethod(Decider):
 
     def __init__(self, margin: float, alpha: float, pairs: int):
         check_margin(margin)
-        bounds._check_probability("alpha", alpha)
+        check_alpha(alpha)
         if not isinstance(pairs, int) or isinstance(pairs, bool) or pairs < 1:
             raise ValueError(f"pairs must be a positive integer (got {pairs!r})")
         self.margin, self.alpha, self.pairs = margin, alpha, pairs
@@ -151,7 +151,7 @@ class SequentialPairs(PairedMethod):
             head = (f"  SHOWN after {report['stopped_at']} pairs: {report['claim']}, at level "
                     f"{alpha!r}, valid however often the test looked")
         elif decision == "refuted":
-            by = f" by more than {report['margin']:g}" if report["margin"] else ""
+            by = f" by more than {report['margin']!r}" if report["margin"] else ""
             head = (f"  REFUTED after {report['stopped_at']} pairs: B is less reliable than "
                     f"A{by}, at level {alpha!r}, valid however often the test looked")
         elif not report["complete"]:
