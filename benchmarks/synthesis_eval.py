@@ -64,6 +64,7 @@ from vlb_gym.abstractor.backends import (BackendError, ChatBackend,  # noqa: E40
 from vlb_gym.abstractor.certified import (Seeds, certify_promise,  # noqa: E402
                                           synthesize_certified)
 from vlb_gym.core.library import BehaviorLibrary  # noqa: E402
+from vlb_gym.core.promise import words  # noqa: E402
 from vlb_gym.core.spec import Promise  # noqa: E402
 from vlb_gym.core.files import (InputFileError, load_json, read_limited,  # noqa: E402
                                 write_atomic)
@@ -129,7 +130,7 @@ def attempt(task: Task, backend: ChatBackend | None, model: str, sample: int, fo
     write_atomic(stem.with_suffix(".transcript.json"), json.dumps(got.transcript, indent=2) + "\n")
     drafts = got.transcript["drafts"]
     record = Sample(model, task.name, task.difficulty, sample,
-                    got.promise.expr if got.promise else "",
+                    words(got.promise.expr, got.promise.as_soon_as) if got.promise else "",
                     sum(d["promise"] is not None for d in drafts) if backend else 1,
                     sum(len(d["rounds"]) for d in drafts), got.certified, "", 0, 0, 0, 0, 0,
                     seconds)

@@ -18,7 +18,10 @@ from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_cert
 from vlb_gym.abstractor.certify import certification_episodes, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
 from vlb_gym.abstractor.search import Search
+from vlb_gym.core.library import load_behavior
 from vlb_gym.core.spec import Promise, spec_from_data
+from vlb_gym.verify import run_episode
+from vlb_gym.wrappers import RobustnessWrapper
 from vlb_gym.verify.campaign import episode_seed
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -189,9 +192,14 @@ def test_the_model_pipeline_certifies_and_replays_from_its_transcript(tmp_path):
     backend = ScriptedBackend([reply(HOME)] * 4)
     got = synthesize_certified(GRID_ID, REQUEST, backend, yes, name="home_again", drafts=4,
                                seeds=Seeds(**SEEDS))
-    assert got.certified and got.promise == HOME
+    # the behavior found for HOME would keep it after one more sense: HOME does not say when
+    # to stop, so HOME kept as soon as it holds is searched too, and is what is certified
+    assert got.certified and got.promise == HOME.model_copy(update={"as_soon_as": True})
+    assert got.document["promise"]["as_soon_as"]
     t = got.transcript
-    assert len(t["drafts"]) == 4 and len(t["finds"]) == 1  # equal promises searched once
+    assert len(t["drafts"]) == 4  # equal promises searched once, and once as soon as
+    assert [f["as_soon_as"] for f in t["finds"]] == [False, True]
+    assert t["overruns"][0]["then"] == "sense once where it stands and stop"
     assert t["certifications"][0]["seed"] == 101 and t["certifications"][0]["successes"] == 112
     path = tmp_path / "t.json"
     path.write_text(json.dumps(t))
@@ -208,7 +216,7 @@ def test_a_draft_a_least_behavior_keeps_is_sent_back_with_it():
     got = synthesize_certified(GRID_ID, REQUEST, backend, yes, drafts=1, seeds=Seeds(**SEEDS))
     witnessed = got.transcript["drafts"][0]["witnessed"]
     assert witnessed["witnesses"] and "keeps it" in json.dumps(backend.requests[1])
-    assert got.promise == HOME and got.certified
+    assert got.promise.expr == HOME.expr and got.certified
 
 
 def test_a_backend_failure_ends_the_drafts_honestly():
@@ -266,6 +274,43 @@ def test_cli_yes_takes_no_promise_a_least_behavior_keeps_unless_told(tmp_path):
     assert json.loads((tmp_path / "s.json").read_text())["certificate"]["successes"] == 112
 
 
+def test_cli_as_soon_as_certifies_a_behavior_that_stops_when_the_promise_first_holds(
+        tmp_path):
+    """'Explore until a goal is found, then stop' with a promise that does not say when to
+    stop: --as-soon-as certifies a behavior whose last step is the sense that revealed a goal
+    (the environment's own record says so), and the certificate reproduces."""
+    out = tmp_path / "until.json"
+    proc = vlb("synthesize", GRID_ID, "Explore until you find a goal, then stop.", "--certify",
+               "--promise", "goal_found() and primitives()[-1] == 'sense'", "--as-soon-as",
+               "--yes", "--out", str(out))
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "kept as soon as it holds" in proc.stdout
+    saved = json.loads(out.read_text())
+    assert saved["promise"]["as_soon_as"] and saved["certificate"]["as_soon_as"]
+    shown = vlb("behaviors", str(out))
+    assert "stopping as soon as that holds" in shown.stdout
+    env = RobustnessWrapper(gym.make(GRID_ID))
+    policy = load_behavior(str(out), env)
+    for seed in range(5):
+        assert run_episode(env, policy, seed).success
+        found = [step["goal_found"] for step in env.history]
+        assert found.index(True) == len(found) - 1  # the first sense that found one is the last
+    env.close()
+    again = vlb("verify", GRID_ID, "--behavior", str(out), "--certificate")
+    assert again.returncode == 0 and "certificate reproduced: 112/112" in again.stdout
+
+
+def test_a_model_promise_that_does_not_say_when_to_stop_is_searched_as_soon_as_it_holds():
+    loose = Promise(expr="goal_found() and primitives()[-1] == 'sense'",
+                    description="a goal is known and the last step is a sense")
+    got = synthesize_certified(GRID_ID, "Explore until you find a goal, then stop.",
+                               ScriptedBackend([reply(loose)]), yes, drafts=1,
+                               seeds=Seeds(**SEEDS))
+    assert got.certified and got.promise == loose.model_copy(update={"as_soon_as": True})
+    assert got.transcript["overruns"][0]["promise"] == loose.expr
+    assert [f["as_soon_as"] for f in got.transcript["finds"]] == [False, True]
+
+
 def test_a_declined_model_promise_gives_way_to_the_next_ranked():
     """The model's promises are confirmed in rank order: one declined, the next is asked."""
     other = Promise(expr="goal_found() and final_cell() == start_cell()",
@@ -290,6 +335,7 @@ def test_a_declined_model_promise_gives_way_to_the_next_ranked():
     (["--certify", "--promise", "len(moves())"], "not true or false"),
     (["--certify", "--promise", "current_cell() == (0, 0)"], "'current_cell' is"),
     (["--promise", "goal_found()"], "add --certify"),
+    (["--certify", "--as-soon-as"], "--as-soon-as says how --promise is kept"),
 ])
 def test_cli_promise_errors_are_one_line(tmp_path, args, words):
     proc = vlb("synthesize", GRID_ID, "x", *args, "--yes", "--out", str(tmp_path / "x.json"))

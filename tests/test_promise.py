@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import vlb_gym
 from vlb_gym import BehaviorSpecError
 from vlb_gym.cli import main
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
@@ -24,6 +26,7 @@ from vlb_gym.verify import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
 from vlb_gym.wrappers.behavior import BehaviorFinished
 
+BEHAVIORS = Path(vlb_gym.__file__).parent / "behaviors"
 SENSE_ONCE = {"name": "sense_once", "description": "sense where it stands",
               "env": "VLB-GridExplore-v0", "nodes": [{"id": "look", "primitive": "sense"}],
               "start": {"node": "look", "param": "current_cell()"}, "terminals": ["look"]}
@@ -271,3 +274,75 @@ def test_every_promise_judged_in_an_episode_shares_its_budget(grid_env, user_lib
     result = run_episode(grid_env, policy, 0)
     assert not result.success and "EvaluationLimitError" in result.reason, result.reason
     assert result.cause == "sense_once: promise" and 2 <= result.primitives < 60
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10_000), steps=st.integers(1, 14))
+def test_grid_judge_rewinds_each_step_to_the_state_the_env_was_in(seed, steps):
+    env = RobustnessWrapper(gym.make("VLB-GridExplore-v0"))
+    _, reset_info = env.reset(seed=seed)
+    rng = np.random.default_rng(seed)
+    snapshots = [env.unwrapped.save()]
+    for _ in range(steps):
+        state = env.unwrapped.state
+        cell = tuple(int(v) for v in state.cell)
+        free = [n for n in ((cell[0] + 1, cell[1]), (cell[0] - 1, cell[1]),
+                            (cell[0], cell[1] + 1), (cell[0], cell[1] - 1))
+                if 0 <= min(n) and max(n) < state.truth.shape[0] and state.truth[n] != OBSTACLE]
+        navigate = free and rng.random() < 0.5
+        target = free[rng.integers(len(free))] if navigate else cell
+        env.step(env.unwrapped.encode_action("navigate" if navigate else "sense", target))
+        snapshots.append(env.unwrapped.save())
+    judge = GridJudge(env.unwrapped.state.truth.shape[0])
+    episode = Episode(env.unwrapped.state, env.history, reset_info)
+    for k in range(len(env.history) - 1, -1, -1):  # rewound step by step, down to the reset
+        episode = judge.rewind(episode)
+        env.unwrapped.load(snapshots[k])
+        real = env.unwrapped.state
+        assert len(episode.steps) == k and episode.state.cell == real.cell
+        assert (episode.state.labels == real.labels).all()
+        assert episode.state.goal_found == real.goal_found
+    env.close()
+
+
+TWO_SENSES = {**SENSE_ONCE, "name": "two_senses", "description": "sense twice where it stands",
+              "nodes": [{"id": "look", "primitive": "sense"},
+                        {"id": "again", "primitive": "sense"}],
+              "edges": [{"from": "look", "to": "again", "param": "current_cell()"}],
+              "terminals": ["again"]}
+
+
+@pytest.mark.parametrize("doc, expr, why", [
+    (TWO_SENSES, "len(sensed()) == 2", None),
+    (TWO_SENSES, "len(sensed()) >= 1", "it already held after step 1"),
+    (SENSE_ONCE, "len(moves()) == 0", "it already held before the first step"),
+    (SENSE_ONCE, "len(sensed()) == 1", None),
+])
+def test_a_promise_kept_as_soon_as_it_holds_fails_where_it_held_earlier(grid_env, doc, expr,
+                                                                         why):
+    spec = spec_from_data({**doc, "promise": {"expr": expr, "as_soon_as": True}}, "<t>")
+    policy = BehaviorPolicy(compile_spec(spec, grid_env, "<t>", None, None), grid_env.unwrapped)
+    result = run_episode(grid_env, policy, 3)
+    assert result.success == (why is None)
+    if why is not None:
+        assert f"stopping as soon as that holds: {why})" in result.reason
+
+
+def test_the_shipped_explore_until_goal_stops_as_soon_as_a_goal_is_found(grid_env):
+    data = json.loads((BEHAVIORS / "explore_until_goal.json").read_text())
+    spec = spec_from_data({**data, "promise": {"expr": "goal_found() or explored_all()",
+                                               "as_soon_as": True}}, "<t>")
+    policy = BehaviorPolicy(compile_spec(spec, grid_env, "<t>", None, None), grid_env.unwrapped)
+    for seed in range(5):
+        assert run_episode(grid_env, policy, seed).success
+
+
+def test_as_soon_as_is_refused_where_the_judge_cannot_rewind():
+    env = gym.make("VLB-Scoop-v0")
+    data = json.loads((BEHAVIORS / "scoop_repeatedly.json").read_text())
+    spec = spec_from_data({**data, "promise": {"expr": "delivered() > 0", "as_soon_as": True}},
+                          "<t>")
+    with pytest.raises(BehaviorSpecError, match="promise.as_soon_as: .*cannot judge what held "
+                                                "before a behavior's last step"):
+        compile_spec(spec, env, "<t>", None, None)
+    env.close()

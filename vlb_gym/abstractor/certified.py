@@ -19,8 +19,13 @@ times, each shown other worked examples of the env's bank
 (:func:`~vlb_gym.abstractor.intent.draft_promise`); a draft that a least behavior keeps is sent
 back once with that behavior (the request may ask for more); the search runs for each distinct
 promise, every behavior found is screened against every promise, and the behavior kept by the
-promises of most weight (1/(k+1) for the draft k that first wrote it; drafts no least behavior
-keeps count double) is certified against the earliest promise it keeps.
+promises of most weight (1/(k+1) for each draft k that wrote it; drafts no least behavior
+keeps count double; among equals, the one that comes nearer the promises it does not keep, then the cheaper) is
+certified against the tightest
+promise it keeps (kept by the fewest of the behaviors found). A promise whose behavior would
+still keep it after one more step of a least behavior does not say when to stop: where the
+env's judge can tell what held before a behavior's last step, the same promise kept *as soon
+as* it holds joins the drafts with the same weight, searched in turn.
 
 Randomness is recorded: the transcript holds the seeds of the screening and certification
 campaigns and how many programs each search built, so that a replay (``seeds`` and
@@ -97,7 +102,8 @@ def _transcript(env_id: str, request: str, pipeline: str, backend: str) -> dict[
 
 def _find_record(promise: Promise, search: Search, found: Found | None) -> dict[str, Any]:
     tally = search.tally
-    return {"promise": promise.expr, "screen_seed": search.screen_seed,
+    return {"promise": promise.expr, "as_soon_as": promise.as_soon_as,
+            "screen_seed": search.screen_seed,
             "program": found.program.words() if found else None,
             "built": tally.built, "distinct": tally.distinct, "judged": tally.judged,
             "seconds": round(tally.seconds, 2), "failures": tally.failures[:3]}
@@ -140,7 +146,8 @@ class _Certifier:
         attempt = len(self.transcript["certifications"])
         seed = self.seeds.next_certify(attempt)
         record: dict[str, Any] = {"program": found.program.words(),
-                                  "promise": search.promise.expr, "seed": seed}
+                                  "promise": search.promise.expr,
+                                  "as_soon_as": search.promise.as_soon_as, "seed": seed}
         self.transcript["certifications"].append(record)
         if why is not None:  # the runtime and the search disagree: not certified, and said
             record.update(successes=0, episodes=0, rescreen=why)
@@ -205,22 +212,42 @@ def synthesize_certified(env_id: str, request: str, backend: ChatBackend, confir
     try:
         promises, weights, kept = _drafts(run, backend, drafts)
         found: list[tuple[Found, Search]] = []
+        tightened: dict[int, int] = {}  # a promise's index -> its as-soon-as form's
         per_promise = time_limit / 2 / max(len(promises), 1)
-        for promise in promises:
+        for promise in list(promises):
             search = next(s for s in run.searches if s.promise == promise)
             result = run.find(search, per_promise)
-            if result is not None and all(result.program != f.program for f, _ in found):
+            if result is None:
+                continue
+            if all(result.program != f.program for f, _ in found):
                 found.append((result, search))
+            tight = _as_soon_as(run, search, result)
+            if tight is not None:
+                tightened[promises.index(promise)] = len(promises)
+                promises.append(tight.promise)
+                weights.append(weights[promises.index(promise)])
+                kept.append(tight.witnesses())
+                tighter = run.find(tight, per_promise)
+                if tighter is not None and all(tighter.program != f.program for f, _ in found):
+                    found.append((tighter, tight))
         ranked = []
+        keepers = [0] * len(run.searches)  # how many behaviors found keep each promise
         for result, search in found:
-            keeps = [k for k, other in enumerate(run.searches) if other.keeps(result.program)]
+            grades = [other.grade(result.program) for other in run.searches]
+            keeps = [k for k, (keep, _) in enumerate(grades) if keep]
             transcript["consensus"].append({"program": result.program.words(), "keeps": keeps})
+            for k in keeps:
+                keepers[k] += 1
             if keeps:
-                score = sum(weights[k] * (1 if kept[k] else 2) for k in keeps)
-                ranked.append((-score, keeps[0], result, keeps))
-        ranked.sort(key=lambda r: (r[0], r[1]))
+                score = sum(_weight(k, keeps, weights, kept, tightened) for k in keeps)
+                near = sum(weights[k] * close for k, (keep, close) in enumerate(grades)
+                           if not keep)  # how near it comes to the promises it does not keep
+                ranked.append((-score, -near, result.cost, result, keeps))
+        ranked.sort(key=lambda r: r[:3])
         declined: list[int] = []  # promises (their searches' indices) the user declined
-        for _, _, result, keeps in ranked:
+        for *_, result, keeps in ranked:
+            keeps = sorted(keeps, key=lambda k: (  # the tightest first
+                keepers[k], not run.searches[k].promise.as_soon_as, k))
             if len(transcript["certifications"]) >= ATTEMPTS:
                 break
             first = None  # the earliest promise it keeps that the user confirms
@@ -267,7 +294,9 @@ def _drafts(run: _Certifier, backend: ChatBackend, drafts: int
                                   "promise": draft.promise and draft.promise.model_dump()}
         transcript["drafts"].append(record)
         promise = draft.promise
-        if promise is not None and promise.expr not in {p.expr for p in promises}:
+        if promise is not None and promise.expr in [p.expr for p in promises]:
+            weights[[p.expr for p in promises].index(promise.expr)] += 1 / (k + 1)  # agreement
+        elif promise is not None:
             search = run.search(promise)
             witnesses = search.witnesses()
             if witnesses:
@@ -291,6 +320,32 @@ def _drafts(run: _Certifier, backend: ChatBackend, drafts: int
         if draft.rounds[-1]["layer"] == "backend":
             break
     return promises, weights, kept
+
+
+def _weight(k: int, keeps: list[int], weights: list[float], kept: list[list[str]],
+            tightened: dict[int, int]) -> float:
+    """What keeping promise ``k`` adds to a behavior's score (it keeps ``keeps``): the
+    promise's weight, doubled if no least behavior keeps it; a draft whose as-soon-as form was
+    searched counts once, through that form, and half when only its loose form is kept."""
+    weight = weights[k] * (1 if kept[k] else 2)
+    if k not in tightened:
+        return weight
+    return 0.0 if tightened[k] in keeps else weight / 2
+
+
+def _as_soon_as(run: _Certifier, search: Search, found: Found) -> Search | None:
+    """The search for ``search``'s promise kept as soon as it holds, when ``found`` keeps it
+    and still would after one more step of a least behavior (the promise does not say when to
+    stop) and the env can judge that; else None."""
+    promise = search.promise
+    if promise.as_soon_as or not search.interface.make_judge().rewinds:
+        return None
+    overrun = search.overrun(found.program)
+    if overrun is None:
+        return None
+    run.transcript.setdefault("overruns", []).append(
+        {"promise": promise.expr, "program": found.program.words(), "then": overrun})
+    return run.search(promise.model_copy(update={"as_soon_as": True}))
 
 
 def _too_weak(witness: str) -> str:

@@ -15,7 +15,7 @@ budget; the search re-runs what it found through the real runtime before certify
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from vlb_gym.core.budget import Budget, EvaluationLimitError
@@ -96,7 +96,7 @@ class Executor:
         judge_names = {**{n: None for n in BUILTINS},
                        **{n: arity(f) for n, f in self._judging.helpers.functions().items()}}
         self.promise = Expression(promise.expr, judge_names, "promise")
-        self.claim = Claim("candidate", self.promise, promise.description, 0)
+        self.claim = Claim("candidate", self.promise, promise.description, 0, promise.as_soon_as)
         self._closeness = Closeness(promise.expr, judge_names)
         self.executed = 0  # statements run
 
@@ -237,8 +237,7 @@ class Executor:
 
     def _claims(self, policy: Any, run: Run, start: int) -> None:
         for claim in policy.claims():
-            moved = Claim(claim.behavior, claim.expression, claim.description,
-                          claim.since + start)
+            moved = replace(claim, since=claim.since + start)
             problem = self._judging(moved, run.history, run.reset_info)
             if problem is not None:
                 raise _Failed(problem)

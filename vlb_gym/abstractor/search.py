@@ -208,6 +208,29 @@ class Search:
         return all(self.executor.judge(self._run(seed, program.statements)) is None
                    for seed in self.seeds)
 
+    def grade(self, program: Program) -> tuple[bool, float]:
+        """Whether ``program`` keeps this search's promise on every screening episode, and how
+        close it comes on them (the mean of the promise's closeness, 1 where it holds)."""
+        keeps, close = True, 0.0
+        for seed in self.seeds:
+            run = self._run(seed, program.statements)
+            if self.executor.judge(run) is None:
+                close += 1.0
+            else:
+                keeps = False
+                close += self.executor.progress(run)
+        return keeps, close / len(self.seeds)
+
+    def overrun(self, program: Program) -> str | None:
+        """The words of a least behavior (one that acts) which, run after ``program``, still
+        keeps the promise on every screening episode: then the promise does not say when to
+        stop. None if there is none."""
+        for witness in self.space.witnesses:
+            if witness.steps and self.keeps(Program(program.statements + tuple(
+                    Act(p, text) for p, text in witness.steps))):
+                return witness.words
+        return None
+
     def _run(self, seed: int, statements: tuple[Statement, ...]) -> Run:
         """``statements`` run from the reset of ``seed``."""
         run = self.executor.start(seed, statements[0])

@@ -118,7 +118,9 @@ def confirm_promise(args: argparse.Namespace) -> Any:
     that keeps it (if one does), then ``--yes`` or the user's answer on stdin (anything but
     y/yes, or no answer, declines)."""
     def confirm(promise: Any, witnesses: list[str]) -> bool:
-        print(f"promise: {promise.description or '(no words given)'}\n  judged as: {promise.expr}")
+        print(f"promise: {promise.description or '(no words given)'}\n  judged as: {promise.expr}"
+              + ("\n  kept as soon as it holds: the behavior stops the first time it does"
+                 if promise.as_soon_as else ""))
         if witnesses:
             print(f"  a behavior that keeps this promise: {witnesses[0]}; is that what you "
                   "meant? (a promise that a behavior doing this little keeps asks for nothing "
@@ -140,7 +142,7 @@ def confirm_promise(args: argparse.Namespace) -> Any:
 def expert_promise(args: argparse.Namespace) -> Any:
     """``--promise EXPR`` (with ``--promise-words``) checked against the env's outcome
     helpers; a usage error (one line) where it is not a promise."""
-    from vlb_gym.core.promise import check_promise
+    from vlb_gym.core.promise import check_promise, check_rewinds
     from vlb_gym.core.spec import BehaviorSpecError, Promise, validated
     from vlb_gym.envs.modules import EnvSetupError, make_primitive_env
 
@@ -150,11 +152,14 @@ def expert_promise(args: argparse.Namespace) -> Any:
         raise UsageError(str(exc)) from None
     try:
         promise = validated(Promise, {"expr": args.promise,
-                                      "description": args.promise_words or ""},
+                                      "description": args.promise_words or "",
+                                      "as_soon_as": args.as_soon_as},
                             "--promise", "")
         own = {name: "an observation helper (what the agent sees, not what happened)"
                for name in env.unwrapped.make_helpers().functions()}
         check_promise(promise.expr, env.unwrapped, "--promise", own)
+        if promise.as_soon_as:
+            check_rewinds(env.unwrapped, "--as-soon-as")
     except BehaviorSpecError as exc:
         raise UsageError(" ".join(str(exc).split())) from None
     finally:
@@ -241,6 +246,8 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
     check_env(args.env_id, {}, modules)
     if args.promise is not None and not args.certify:
         raise UsageError("--promise states the promise of a certified synthesis: add --certify")
+    if args.as_soon_as and args.promise is None:
+        raise UsageError("--as-soon-as says how --promise is kept: add --promise EXPR")
     backend = None if args.promise is not None else backend_from_args(args)
     library = BehaviorLibrary()
     if args.out:  # checked before the model is asked; the transcript goes beside the behavior
@@ -368,6 +375,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "env's least behaviors, and confirmed unless --yes")
     y.add_argument("--promise-words", metavar="TEXT",
                    help="with --promise: the promise in plain words, shown when confirming")
+    y.add_argument("--as-soon-as", action="store_true",
+                   help="with --promise: the behavior stops as soon as the promise holds (it "
+                   "held after no earlier step)")
     y.add_argument("--time-limit", type=seconds, default=240.0, metavar="SECONDS",
                    help="with --certify: seconds the search may take")
     y.add_argument("--workers", type=count(1), default=1, metavar="N",

@@ -47,10 +47,13 @@ def cmd_behaviors(args: argparse.Namespace) -> int:
 
 def graph_text(compiled: CompiledBehavior) -> str:
     """The nodes and edges of a compiled behavior, one per line."""
+    from vlb_gym.core.promise import words
+
     lines = [f"{compiled.name}: {compiled.spec.description}"]
     promise = compiled.spec.promise
     if promise is not None:
-        lines.append(f"  promise: {promise.description or promise.expr}"
+        said = words(promise.description or promise.expr, promise.as_soon_as)
+        lines.append(f"  promise: {said}"
                      + (f"\n    judged as: {promise.expr}" if promise.description else ""))
     certificate = compiled.spec.certificate
     if certificate is not None:

@@ -12,7 +12,10 @@ import abc
 import inspect
 import reprlib
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .promise import Episode
 
 _MARK = "__vlb_helper__"
 ONE_OF = "__vlb_one_of__"  # the closed set of values a helper's string result is one of
@@ -95,3 +98,13 @@ class Judge(Helpers):
     @abc.abstractmethod
     def summary(self) -> str:
         """The bound episode's outcome in a line (where the agent ended, what it did)."""
+
+    def rewind(self, episode: Episode) -> Episode | None:
+        """``episode`` as it stood before its last step (it has at least one), for promises
+        kept "as soon as" they hold; None where the env cannot say (the default)."""
+        return None
+
+    @property
+    def rewinds(self) -> bool:
+        """Whether this judge can :meth:`rewind` an episode."""
+        return type(self).rewind is not Judge.rewind

@@ -51,11 +51,17 @@ class Claim:
     expression: Expression
     description: str
     since: int
+    as_soon_as: bool = False
 
     @property
     def words(self) -> str:
         """The promise in words: its description, else its expression."""
-        return self.description or self.expression.source
+        return words(self.description or self.expression.source, self.as_soon_as)
+
+
+def words(text: str, as_soon_as: bool) -> str:
+    """A promise's words, saying so when it is kept as soon as it holds."""
+    return f"{text}, stopping as soon as that holds" if as_soon_as else text
 
 
 def compile_promise(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
@@ -63,7 +69,20 @@ def compile_promise(spec: BehaviorSpec, interface: PrimitiveEnv, source: str,
     """The promise of ``spec`` checked by :func:`check_promise` (None if it declares none)."""
     if spec.promise is None:
         return None
-    return check_promise(spec.promise.expr, interface, f"{source}: promise.expr", own)
+    expression = check_promise(spec.promise.expr, interface, f"{source}: promise.expr", own)
+    if spec.promise.as_soon_as:
+        check_rewinds(interface, f"{source}: promise.as_soon_as")
+    return expression
+
+
+def check_rewinds(interface: PrimitiveEnv, where: str) -> None:
+    """BehaviorSpecError unless ``interface``'s judge can tell whether a promise held before a
+    behavior's last step (what "as soon as" is judged with)."""
+    judge = interface.make_judge()
+    if judge is None or not judge.rewinds:
+        raise BehaviorSpecError(f"{where}: {interface.env_id or type(interface).__name__} cannot "
+                                "judge what held before a behavior's last step, so a promise "
+                                "on it cannot be kept 'as soon as' it holds", "expressions")
 
 
 def check_promise(text: str, interface: PrimitiveEnv, where: str = "promise",
@@ -131,17 +150,34 @@ class Judging:
         evaluation that raises or exceeds its budget is a failed promise, never an
         exception."""
         helpers, since = self.helpers, claim.since
-        helpers.bind(Episode(self.interface.state, history[since:],
-                             history[since - 1] if since > 0 else reset_info))
+        episode = Episode(self.interface.state, history[since:],
+                          history[since - 1] if since > 0 else reset_info)
         try:
-            held = bool(claim.expression.evaluate(self.namespace))
-            problem = None if held else "it does not hold"
+            problem = self._problem(claim, episode)
         except Exception as exc:  # the promise's own failure: the episode's, not the process's
             problem = f"{type(exc).__name__}: {exc}"
         if problem is None:
             return None
+        helpers.bind(episode)  # the summary tells the finished episode
         return (f"promise of {claim.behavior} failed ({claim.words}: {problem}): "
                 f"{helpers.summary()}")
+
+    def _problem(self, claim: Claim, episode: Episode) -> str | None:
+        self.helpers.bind(episode)
+        if not claim.expression.evaluate(self.namespace):
+            return "it does not hold"
+        if not claim.as_soon_as:
+            return None
+        earlier: Episode | None = episode
+        while earlier.steps:  # it held after no earlier step, nor before the first
+            earlier = self.helpers.rewind(earlier)
+            if earlier is None:
+                return "what held before the last step cannot be told"
+            self.helpers.bind(earlier)
+            if claim.expression.evaluate(self.namespace):
+                return (f"it already held after step {len(earlier.steps)}" if earlier.steps
+                        else "it already held before the first step")
+        return None
 
 
 def judge(interface: PrimitiveEnv, claim: Claim, history: Sequence[Mapping[str, Any]],

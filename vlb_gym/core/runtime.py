@@ -150,7 +150,8 @@ class BehaviorPolicy:
             done = self._stack.pop().behavior
             if done.promise is not None:
                 self._claims.append(Claim(done.name, done.promise,
-                                          done.spec.promise.description, frame.since))
+                                          done.spec.promise.description, frame.since,
+                                          done.spec.promise.as_soon_as))
         self.finished = True
         return None
 

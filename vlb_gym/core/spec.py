@@ -124,21 +124,26 @@ class Function(_Model):
 
 class Promise(_Model):
     """What the behavior promises holds when it finishes: an expression over the env's outcome
-    helpers (the final state and the steps the behavior ran), and the same in plain words."""
+    helpers (the final state and the steps the behavior ran), and the same in plain words.
+    With ``as_soon_as`` it also promises to stop as soon as the expression holds: it did not
+    hold before the behavior's last step (judged where the env's judge can rewind a step)."""
 
     expr: ExpressionText
     description: text(500) = ""
+    as_soon_as: bool = False
 
 
 class Certificate(_Model):
     """What certified a behavior: a fixed-N campaign on ``env`` (with ``env_kwargs``), root seed
-    ``seed``, whose ``successes`` of ``episodes`` kept every certificate and ``promise``. It
+    ``seed``, whose ``successes`` of ``episodes`` kept every certificate and ``promise`` (kept
+    as soon as it held, with ``as_soon_as``). It
     gives P[success] >= 1 - ``epsilon`` with ``confidence`` (over the ``attempts`` certification
     campaigns of the search that found it: a union bound). ``content_sha256`` is the digest of
     the behavior's content without this certificate, ``vlb_gym`` the version that ran it:
     ``vlb verify ENV --behavior FILE --episodes N --seed S`` runs the same episodes again."""
 
     promise: ExpressionText
+    as_soon_as: bool = False
     env: text(200)
     env_kwargs: dict[Identifier, Any] = Field(default_factory=dict, max_length=32)
     seed: int = Field(ge=0, lt=2**63)

@@ -6,6 +6,8 @@ so a promise can say what the behavior did, not only what the agent believes.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from vlb_gym.core.helpers import Judge, helper
@@ -82,18 +84,40 @@ class GridJudge(Judge):
         """The cells the agent knew before the behavior's last step: those it knows now, less
         those its last step sensed that none of its earlier steps did (with known_cells(): was
         the last step the first after which something held, "as soon as"?)."""
+        fresh = self._fresh()
+        return [c for c in self.known_cells() if c not in fresh]
+
+    def _fresh(self) -> set[Cell]:
+        """The cells the last step labelled: those a last sense labels that no earlier step
+        of the behavior sensed (a cell known before the behavior began and first sensed by it
+        in its last step counts as fresh)."""
         if not self._steps or self._steps[-1][0] != "sense":
-            return self.known_cells()
+            return set()
         earlier = set()
         for name, cell in self._steps[:-1]:
             if name == "sense":
                 earlier.update(self._sensed(cell))
-        fresh = set(self._sensed(self._steps[-1][1])) - earlier
-        return [c for c in self.known_cells() if c not in fresh]
+        return set(self._sensed(self._steps[-1][1])) - earlier
 
     def _sensed(self, cell: Cell) -> list[Cell]:
         """The cells a sense at ``cell`` labels: it and its neighbours."""
         return [cell, *self._adjacent[cell_index(cell, self.size, "sense")]]
+
+    def rewind(self, episode: Episode) -> Episode:
+        """The episode before its last step: the agent in the cell it was in then, the cells
+        that step labelled unlabelled again (see :meth:`known_before_last`), the truth as it
+        is."""
+        self.bind(episode)
+        state = episode.state
+        labels = state.labels.copy()
+        for i, j in self._fresh():
+            labels[i, j] = UNEXPLORED
+        before = episode.steps[-2] if len(episode.steps) > 1 else episode.entry
+        i, j = before["cell"] if "cell" in before else before["start_cell"]
+        half = self.size / 2
+        earlier = replace(state, labels=labels, goal_found=bool((labels == GOAL).any()),
+                          position=np.array([i - half + 0.5, j - half + 0.5]))
+        return Episode(earlier, episode.steps[:-1], episode.entry)
 
     @helper
     def known_obstacles(self) -> list[Cell]:
