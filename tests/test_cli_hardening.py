@@ -23,6 +23,7 @@ from scipy.stats import binom, poisson
 
 from vlb_gym.cli import common, main
 from vlb_gym.envs.grid_explore import GridExploreEnv
+from vlb_gym.core.text import bounded
 from vlb_gym.verify import bounds
 from vlb_gym.verify.campaign import Campaign, CampaignConfig
 from vlb_gym.verify.report import Report
@@ -570,6 +571,9 @@ def test_a_store_reason_is_printed_neutralised(tmp_path, capsys):
     assert main(["report", str(store)]) == 0
     out = capsys.readouterr().out
     assert "\x1b" not in out and "\\x1b]0;owned\\x07\\x1b[2J" in out
+    assert main(["report", str(store), "--out", str(tmp_path / "r"), "--no-frames"]) == 0
+    written = (tmp_path / "r" / "report.md").read_text()  # a file a user may cat
+    assert "\x1b" not in written and "\x07" not in written and "\\x1b" in written
 
 
 def test_a_delta_too_small_for_floating_point_is_one_line(capsys):
@@ -612,3 +616,44 @@ def test_workers_never_import_the_files_where_a_campaign_runs(tmp_path):
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "successes 8/8" in proc.stdout
     assert not marker.exists(), marker.read_text()
+
+
+@pytest.mark.parametrize("command", [
+    ["verify", "{X}", "--behavior", "explore_until_goal", "--episodes", "2", "--epsilon", "0.1"],
+    ["compare", "{X}", "explore_until_goal", "explore_until_goal", "--pairs", "2"],
+    ["synthesize", "{X}", "x", "--certify", "--promise", "goal_found()", "--yes"],
+    ["behaviors", "{X}"], ["report", "{X}"], ["replay", "{X}", "--episode", "0"],
+    ["verify", GRID, "--behavior", "explore_until_goal", "--episodes", "2", "--epsilon", "0.1",
+     "--env-kwarg", "{X}=1"],
+], ids=lambda c: c[0])
+def test_a_megabyte_argument_is_echoed_shortened_in_one_line(command, capsys):
+    huge = "A" * 1_000_000
+    argv = [word.replace("{X}", huge) for word in command]
+    try:
+        code = main(argv)
+    except SystemExit as stop:
+        code = stop.code
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1, err[:300]
+    assert len(err) < 3000 and "characters]" in err
+
+
+@given(st.text(max_size=5000))
+def test_bounded_keeps_short_messages_and_bounds_the_rest(message):
+    shown = bounded(message)
+    assert len(shown) <= 2200
+    if len(message) <= 2000 and all(len(w) <= 160 for w in message.split(" ")):
+        assert shown == message
+
+
+@pytest.mark.parametrize("suffix", ["-wal", "-shm", ""])
+def test_report_out_is_never_where_sqlite_keeps_the_store(tmp_path, capsys, suffix):
+    store = tmp_path / "s.db"
+    assert verify("--store", str(store), behavior=EXAMPLES / "fixed_cell.json",
+                  episodes=4) == 0
+    capsys.readouterr()
+    assert main(["report", str(store), "--out", f"{store}{suffix}", "--no-frames"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is an input of this command" in err
+    assert not Path(f"{store}{suffix}").is_dir()
+    assert main(["report", str(store)]) == 0  # the store still opens

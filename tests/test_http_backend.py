@@ -185,6 +185,16 @@ def test_the_api_key_never_shows_in_errors_or_the_name(monkeypatch):
     assert "sk-secret" not in str(err.value) and "sk-secret" not in chat.name
 
 
+def test_the_api_key_echoed_in_another_letter_case_never_shows(monkeypatch):
+    monkeypatch.setenv("TEST_KEY", "sk-Secret")
+    echo = b'{"error": {"message": "INVALID KEY: BEARER SK-SECRET"}}'
+    with ChatServer([("status", 401, echo)]) as server:
+        chat = backend(server, api_key_env="TEST_KEY")
+        with pytest.raises(BackendError) as err:
+            chat.complete(MESSAGES)
+    assert "sk-secret" not in str(err.value).lower() and "BEARER [API key]" in str(err.value)
+
+
 def test_a_reply_that_echoes_the_api_key_is_returned_without_it(monkeypatch):
     """A server that echoes the Authorization header into its reply: the key would be saved in
     the behavior and the transcript."""

@@ -20,12 +20,12 @@ times, each shown other worked examples of the env's bank
 back once with that behavior (the request may ask for more); the search runs for each distinct
 promise, every behavior found is screened against every promise, and the behavior kept by the
 promises of most weight (1/(k+1) for each draft k that wrote it; drafts no least behavior
-keeps count double; among equals, the one that comes nearer the promises it does not keep, then the cheaper) is
-certified against the tightest
-promise it keeps (kept by the fewest of the behaviors found). A promise whose behavior would
-still keep it after one more step of a least behavior does not say when to stop: where the
-env's judge can tell what held before a behavior's last step, the same promise kept *as soon
-as* it holds joins the drafts with the same weight, searched in turn.
+keeps count double; among equals, the one that comes nearer the promises it does not keep,
+then the cheaper) is certified against the tightest promise it keeps (kept by the fewest of
+the behaviors found). A promise whose behavior would still keep it after one more step of a
+least behavior does not say when to stop: where the env's judge can tell what held before a
+behavior's last step, the same promise kept *as soon as* it holds is searched too and counts
+for its draft in its place (the loose form alone, half).
 
 Randomness is recorded: the transcript holds the seeds of the screening and certification
 campaigns and how many programs each search built, so that a replay (``seeds`` and

@@ -88,7 +88,8 @@ def certify(env_id: str, document: dict[str, Any], seed: int,
         return Certification(report, None)
     certificate = Certificate(
         promise=document["promise"]["expr"],
-        as_soon_as=document["promise"].get("as_soon_as", False), env=env_id, env_kwargs=dict(env_kwargs or {}),
+        as_soon_as=document["promise"].get("as_soon_as", False), env=env_id,
+        env_kwargs=dict(env_kwargs or {}),
         seed=seed, episodes=episodes, successes=report["successes"], epsilon=epsilon,
         confidence=procedure_confidence(epsilon, delta, attempts), attempts=attempts,
         content_sha256=plan.content_sha256, vlb_gym=plan.versions["vlb_gym"])

@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import os
 import random
+import re
 import socket
 import threading
 import time
@@ -262,9 +263,12 @@ class OpenAICompatibleBackend:
                            f"{problem}", last.status, body)
 
     def _redacted(self, text: str) -> str:
-        """``text`` without the API key (a server may echo the request's headers): nothing
-        the backend returns, raises or records holds it."""
-        return text.replace(self.api_key, "[API key]") if self.api_key else text
+        """``text`` without the API key in any letter case (a server may echo the request's
+        headers, upper-cased or not): nothing the backend returns, raises or records holds
+        it."""
+        if not self.api_key:
+            return text
+        return re.sub(re.escape(self.api_key), "[API key]", text, flags=re.IGNORECASE)
 
     def _attempt(self, url: str, body: bytes, dialect: str) -> str:
         """One request; raises :class:`_Failure` saying what went wrong and if a retry may help."""

@@ -15,6 +15,7 @@ import threading
 from collections.abc import Iterator
 
 import vlb_gym
+from vlb_gym.core.text import bounded
 
 from . import baselines, compare, language, library, replay, report, verify
 from .common import Parser, UsageError
@@ -62,9 +63,10 @@ def _run(args) -> int:
 
 def one_line(message: str) -> str:
     """An error message on one line: several problems (a behavior file's) joined with "; ",
-    a line break inside one (a file name's) escaped."""
+    a line break inside one (a file name's) escaped, a long echoed value shortened
+    (:func:`~vlb_gym.core.text.bounded`)."""
     lines = [line.strip() for line in message.replace("\r", "\\r").split("\n")]
-    return "; ".join(line for line in lines if line)
+    return bounded("; ".join(line for line in lines if line))
 
 
 @contextlib.contextmanager

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 import gymnasium as gym
 
+from vlb_gym.core.text import bounded
+
 if TYPE_CHECKING:
     from vlb_gym.verify.records import Plan
 
@@ -45,7 +47,7 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        self.exit(2, f"{self.prog}: error: {bounded(message)} (see '{self.prog} --help')\n")
 
 
 def probability(text: str) -> float:
@@ -180,6 +182,16 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
+def check_not_input(out: Path, inputs: Iterable[str | os.PathLike[str] | None],
+                    where: str) -> None:
+    """Refuse an output path (a file or a folder) that is one of ``inputs`` (None entries are
+    skipped; a store's inputs include the files SQLite keeps beside it)."""
+    for source in inputs:
+        if source is not None and _same_file(out, Path(source)):
+            raise UsageError(f"{where}: is an input of this command ({source}); "
+                             "choose another path")
+
+
 def check_output(path: str, inputs: Iterable[str | os.PathLike[str] | None], force: bool,
                  option_name: str) -> Path:
     """``path`` if a command may write it; checked before any work, so that a bad output path
@@ -190,10 +202,7 @@ def check_output(path: str, inputs: Iterable[str | os.PathLike[str] | None], for
         raise UsageError(f"{option_name}: the path is empty")
     out = Path(path)
     where = f"{option_name} {path}"
-    for source in inputs:
-        if source is not None and _same_file(out, Path(source)):
-            raise UsageError(f"{where}: is an input of this command ({source}); "
-                             "choose another path")
+    check_not_input(out, inputs, where)
     if out.exists() and not out.is_file():
         raise UsageError(f"{where}: is a directory" if out.is_dir() else
                          f"{where}: not a regular file")

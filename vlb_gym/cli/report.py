@@ -6,7 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from .common import UsageError, add_env_module, check_output, read_store, untrusted_options
+from .common import (UsageError, add_env_module, check_not_input, check_output, read_store,
+                     untrusted_options)
 
 def cmd_report(args: argparse.Namespace) -> int:
     from vlb_gym.verify import comparison
@@ -38,6 +39,7 @@ def cmd_report(args: argparse.Namespace) -> int:
         from vlb_gym.verify.replay import episode_frames, store_files
 
         out = Path(args.out)
+        check_not_input(out, store_files(args.store), f"--out {args.out}")
         if out.exists() and not out.is_dir():
             raise UsageError(f"--out {args.out}: not a directory")
         check_output(str(out / "report.html"), store_files(args.store), True, "--out")

@@ -13,18 +13,15 @@ import sys
 from collections.abc import Iterator
 from typing import Any, TextIO
 
-_KEPT = {"\t", "\n", "\r"}
-_FORMAT = [*range(0x200B, 0x2010), *range(0x202A, 0x202F), *range(0x2066, 0x206A), 0xFEFF]
-_TABLE = {c: f"\\x{c:02x}" for c in [*range(0x20), 0x7F, *range(0x80, 0xA0)]
-          if chr(c) not in _KEPT}
-_TABLE.update({c: f"\\u{c:04x}" for c in _FORMAT})
+from vlb_gym.core.text import escape_controls
+
 
 
 def neutral(text: str) -> str:
     """``text`` with every character that could drive a terminal written as an escape; a
     carriage return only at its start (a progress bar redrawing its line), else escaped."""
     head = "\r" if text.startswith("\r") else ""
-    return head + text[len(head):].translate(_TABLE).replace("\r", "\\r")
+    return head + escape_controls(text[len(head):]).replace("\r", "\\r")
 
 
 class NeutralStream:

@@ -1,9 +1,13 @@
 """report.md from a :class:`~.document.Document`: GitHub-flavoured markdown, pictures as files
-in ``figures/`` next to it. Text is escaped so that untrusted strings stay text."""
+in ``figures/`` next to it. Text is escaped so that untrusted strings stay text, and control
+characters (a terminal escape in a stored reason) are written as visible escapes, so that
+``cat report.md`` shows them instead of obeying them."""
 
 from __future__ import annotations
 
 import re
+
+from vlb_gym.core.text import escape_controls
 
 from .document import (Block, Cell, Code, Document, Figure, Gallery, Heading, Inline, Paragraph,
                        Preformatted, Strong, Table)
@@ -72,4 +76,4 @@ def block(item: Block) -> str:
 def render(document: Document) -> str:
     """The markdown text of ``document``."""
     parts = [f"# {escape(document.title)}"] + [block(b) for b in document.blocks]
-    return "\n\n".join(parts) + "\n"
+    return escape_controls("\n\n".join(parts) + "\n").replace("\r", "\\r")

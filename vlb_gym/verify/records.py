@@ -22,6 +22,7 @@ from .methods import FixedN, Sequential, method_named
 from .policies import PolicyRef
 
 STRICT = ConfigDict(strict=True, extra="forbid")
+MAX_EPISODE_SECONDS = 365 * 24 * 3600.0  # an episode's recorded time: more is a corrupt record
 
 
 def _representable(level: float) -> float:
@@ -195,7 +196,9 @@ class EpisodeResult:
     primitives: Count
     failed_certificates: Count
     reason: str | None
-    seconds: Annotated[float, Field(ge=0, allow_inf_nan=False)]
+    # an episode's own time: finite, and at most a year (so that any number of them sums to a
+    # finite total)
+    seconds: Annotated[float, Field(ge=0, le=MAX_EPISODE_SECONDS, allow_inf_nan=False)]
     cause: str | None = None  # the failure's class, for grouping (see failure_cause)
     steps: Annotated[tuple[Step, ...], BeforeValidator(_step_dicts)] = ()
     start: dict[str, Any] = field(default_factory=dict)

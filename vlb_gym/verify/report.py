@@ -82,7 +82,9 @@ class JsonReport(Mapping[str, Any]):
         return len(self._data)
 
     def to_json(self) -> str:
-        return json.dumps(self._data, indent=2) + "\n"
+        """The report as strict JSON (a number that is not finite would be ``Infinity``,
+        which JSON does not have: it is refused, never written)."""
+        return json.dumps(self._data, indent=2, allow_nan=False) + "\n"
 
 
 class Report(JsonReport):
