@@ -257,6 +257,20 @@ def test_a_store_of_one_kind_is_never_read_as_the_other(tmp_path):
 # ------------------------------------------------------------------------------- the command
 
 
+@pytest.mark.parametrize("margin", ["0", "0.05"])
+def test_a_fixed_n_refutation_states_what_was_shown_with_its_own_p_value(capsys, margin):
+    """B far worse than A: the line says B is shown less reliable, with the mirrored test's
+    p-value (tiny), not the claim's (near 1)."""
+    assert main(["compare", GRID, "explore_until_goal", "explore_until_goal", "--pairs", "30",
+                 "--b-env-kwarg", "max_episode_steps=10", "--margin", margin, "--quiet"]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if "REFUTED" in x)
+    assert line.startswith("  REFUTED: B is less reliable than A") and "is shown" in line
+    assert ("by more than 0.05 (P_B < P_A - 0.05)" in line) == (margin != "0")
+    shown_p = float(re.search(r"mirrored, p = ([0-9.e-]+)", line).group(1))
+    assert shown_p <= 0.05 and "refuting: B is" in line
+
+
 def test_vlb_compare_writes_its_report_and_vlb_report_reads_the_store(tmp_path, capsys):
     args = ["compare", GRID, "explore_until_goal", "explore_until_goal", "--sequential",
             "--b-env-kwarg", "max_episode_steps=10", "--store", str(tmp_path / "c.db"),

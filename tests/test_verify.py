@@ -245,3 +245,17 @@ def test_the_dry_run_accepts_failed_certificates_and_refuses_errors(tmp_path):
                                                 r"2: .*ZeroDivisionError") as err:
         dry_run(compile_for(str(path), env), env)
     assert err.value.layer == "dry-run"
+
+
+def test_the_failures_left_out_of_a_summary_say_where_they_are_listed(tmp_path, capsys):
+    from vlb_gym.cli import main
+
+    args = ["verify", "VLB-GridExplore-v0", "--behavior",
+            str(EXAMPLES / "sense_promises_goal.json"),
+            "--episodes", "20", "--epsilon", "0.1"]
+    for extra, where in (([], "(--report FILE lists them all)"),
+                         (["--store", str(tmp_path / "s.db")], "listed by: vlb report "),
+                         (["--report", str(tmp_path / "r.json")], f"listed in {tmp_path}")):
+        assert main(args + extra) == 0
+        line = next(x for x in capsys.readouterr().out.splitlines() if "more failed" in x)
+        assert where in line and "in the report" not in line

@@ -31,7 +31,8 @@ from .paired_methods import FixedPairs, PairedMethod, paired_method_named
 from .policies import PolicyRef
 from .ray_connect import RayOptions
 from .records import ComparisonPlan, PairResult, Plan
-from .report import JsonReport, failures_by_cause, one_line, replay_command, shown_path
+from .report import (JsonReport, failures_by_cause, one_line, replay_command, shown_path,
+                     where_listed)
 from .store import ComparisonStore
 
 
@@ -292,7 +293,8 @@ class ComparisonReport(JsonReport):
                          f"{item['succeeded'].upper()} succeeded"
                          + (f"; replay {failed.upper()}'s failure: {command}" if command else ""))
         if len(differ) > 5:
-            lines.append(f"  ... {len(differ) - 5} more discordant pairs in the report")
+            lines.append(f"  ... {len(differ) - 5} more discordant pairs "
+                         f"{where_listed(report_path, self.store)}")
         if report_path:
             lines.append(f"  report: {report_path}")
         return "\n".join(one_line(line) for line in lines)

@@ -114,6 +114,14 @@ def claim_words(margin: float) -> str:
     return f"B is at least as reliable as A up to {margin!r} (P_B > P_A - {margin!r})"
 
 
+def refuted_words(margin: float) -> str:
+    """What the mirror test shows when it refutes the claim, in words."""
+    if margin == 0:
+        return "B is less reliable than A (P_B < P_A)"
+    return (f"B is less reliable than A by more than {margin!r} "
+            f"(P_B < P_A - {margin!r})")
+
+
 # ------------------------------------------------------------------------------- fixed N
 
 

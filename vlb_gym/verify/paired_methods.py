@@ -15,7 +15,8 @@ from typing import Any
 from . import bounds
 from .methods import Decider
 from .paired import (BETS, SEQUENTIAL_TEST, PairCounts, anytime_bounds, check_alpha, check_margin,
-                     claim_words, log_wealth, mcnemar_p, unconditional_bounds, unconditional_p)
+                     claim_words, log_wealth, mcnemar_p, refuted_words, unconditional_bounds,
+                     unconditional_p)
 
 
 class PairedMethod(Decider):
@@ -64,6 +65,9 @@ class FixedPairs(PairedMethod):
             decision = "incomplete"
         statement = (f"{claim_words(margin)}: {decision} at level {alpha!r} ({test}, "
                      f"p = {bounds.ceil_str(p)})")
+        if decision == "refuted":  # what was shown is the mirror claim, with its own p-value
+            statement = (f"{refuted_words(margin)}: shown at level {alpha!r} ({test}, mirrored, "
+                         f"p = {bounds.ceil_str(against)}), refuting: {claim_words(margin)}")
         if not complete:
             statement = (f"no decision: {counts.n} of the {self.pairs} pairs fixed in advance "
                          "ran, and which ones finished first is not random")
@@ -82,11 +86,16 @@ class FixedPairs(PairedMethod):
             return [f"  no decision until all {report['planned_pairs']} pairs ran: the ones "
                     "stored finished first (failures can end sooner)"]
         low, high = report["interval"]
-        verdict = {"shown": "SHOWN", "not shown": "NOT SHOWN",
-                   "refuted": "REFUTED (the mirror test shows B less reliable)"}[
-            report["decision"]]
-        return [f"  {verdict}: {report['claim']}, at level {report['alpha']!r} "
-                f"({report['test']}, p = {bounds.ceil_str(report['p_value'])})",
+        if report["decision"] == "refuted":
+            head = (f"  REFUTED: {refuted_words(report['margin'])} is shown, at level "
+                    f"{report['alpha']!r} ({report['test']}, mirrored, p = "
+                    f"{bounds.ceil_str(report['p_value_against'])}), refuting: "
+                    f"{report['claim']}")
+        else:
+            verdict = {"shown": "SHOWN", "not shown": "NOT SHOWN"}[report["decision"]]
+            head = (f"  {verdict}: {report['claim']}, at level {report['alpha']!r} "
+                    f"({report['test']}, p = {bounds.ceil_str(report['p_value'])})")
+        return [head,
                 f"  P_B - P_A in [{bounds.floor_str(low, 4)}, {bounds.ceil_str(high, 4)}]: "
                 f"{report['interval_note']}"]
 
@@ -151,9 +160,9 @@ class SequentialPairs(PairedMethod):
             head = (f"  SHOWN after {report['stopped_at']} pairs: {report['claim']}, at level "
                     f"{alpha!r}, valid however often the test looked")
         elif decision == "refuted":
-            by = f" by more than {report['margin']!r}" if report["margin"] else ""
-            head = (f"  REFUTED after {report['stopped_at']} pairs: B is less reliable than "
-                    f"A{by}, at level {alpha!r}, valid however often the test looked")
+            head = (f"  REFUTED after {report['stopped_at']} pairs: "
+                    f"{refuted_words(report['margin'])}, at level {alpha!r}, valid however "
+                    "often the test looked")
         elif not report["complete"]:
             head = (f"  UNDECIDED so far, after {report['pairs']} pairs: the comparison was "
                     "interrupted; nothing is shown")

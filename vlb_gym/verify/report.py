@@ -64,6 +64,16 @@ def replay_command(policy: Mapping[str, Any], env_id: str, env_kwargs: Mapping[s
     return shlex.join(words)
 
 
+def where_listed(report_path: str | None, store: str | None) -> str:
+    """Where a summary's left-out items are all listed: the report written, else the store's
+    report, else how to ask for one."""
+    if report_path:
+        return f"listed in {report_path}"
+    if store:
+        return f"listed by: vlb report {shlex.quote(shown_path(store))} --json"
+    return "(--report FILE lists them all)"
+
+
 class JsonReport(Mapping[str, Any]):
     """A report as a read-only mapping of its JSON keys; ``store`` is the path of the store it
     was run with or rebuilt from, if any."""
@@ -151,7 +161,7 @@ class Report(JsonReport):
         """The outcome of the campaign in words, as ``vlb verify`` prints it."""
         lines = self._head() + method_named(self["mode"]).lines(self)
         lines.append(f"  holds for: {self['sampling_distribution']}")
-        lines += self._failure_lines()
+        lines += self._failure_lines(report_path)
         if report_path:
             lines.append(f"  report: {report_path}")
         return "\n".join(one_line(line) for line in lines)
@@ -177,7 +187,7 @@ class Report(JsonReport):
                      f"failures {self['failures']}")
         return lines
 
-    def _failure_lines(self) -> list[str]:
+    def _failure_lines(self, report_path: str | None) -> list[str]:
         lines = [f"  failures by cause: {group['count']} x {group['cause']} (e.g. episode "
                  f"{group['episodes'][0]}, seed {group['seeds'][0]})"
                  for group in self["failures_by_cause"]]
@@ -187,8 +197,8 @@ class Report(JsonReport):
                          f"{item['reason']}")
         if len(failed) > 5:
             more = len(failed) - 5
-            lines.append(f"  ... {more} more failed episode{'s' if more > 1 else ''} in the "
-                         "report")
+            lines.append(f"  ... {more} more failed episode{'s' if more > 1 else ''} "
+                         f"{where_listed(report_path, self.store)}")
         command = failed and self.replay_command(failed[0]["index"], failed[0]["seed"])
         if command:
             lines.append(f"  replay one: {command}")
