@@ -9,6 +9,7 @@ import io
 import json
 import math
 import shutil
+import re
 from decimal import ROUND_FLOOR, Decimal
 from fractions import Fraction
 from pathlib import Path
@@ -234,6 +235,16 @@ def test_png_encoder_and_frame_thumbnails():
         encode_png(np.zeros((2, 2, 5)))
 
 
+def test_the_reports_picture_library_is_a_core_dependency():
+    """After the README's plain install (no extra), reports draw their pictures: what they
+    import for them is among the package's own dependencies."""
+    import tomllib
+
+    project = tomllib.loads((Path(__file__).parent.parent / "pyproject.toml").read_text())
+    names = {re.split(r"[<>=\[ ]", d)[0] for d in project["project"]["dependencies"]}
+    assert "matplotlib" in names  # plots.py and graph.py draw with it; its pillow writes PNGs
+
+
 def test_without_matplotlib_or_graphviz_the_report_says_so(campaign, tmp_path, monkeypatch):
     import sys
 
@@ -243,7 +254,7 @@ def test_without_matplotlib_or_graphviz_the_report_says_so(campaign, tmp_path, m
     written = write_report_dir(tmp_path, campaign["report"], campaign["episodes"],
                                campaign["plan"])
     text = (tmp_path / "report.md").read_text()
-    assert "no picture (install matplotlib" in text
+    assert "no picture (matplotlib, a dependency of vlb-gym, is missing" in text
     assert floor5(campaign["report"]["lower_bound"]) in text
     assert {p.name for p in written} == {"report.json", "report.md", "report.html"}
 

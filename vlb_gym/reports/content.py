@@ -21,7 +21,7 @@ from .png import encode_png, pick, thumbnail
 MAX_FAILED_ROWS = 25
 MAX_TRACEBACKS = 3
 MAX_FRAMES = 6
-MATPLOTLIB_MISSING = "no picture (install matplotlib, e.g. pip install 'vlb-gym[rl]')"
+MATPLOTLIB_MISSING = "no picture (matplotlib, a dependency of vlb-gym, is missing: pip install matplotlib)"
 
 
 def joined(parts: list[Inline], separator: str = ", ") -> list[Inline]:

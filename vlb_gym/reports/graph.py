@@ -134,8 +134,8 @@ def networkx_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: 
         from matplotlib.cm import ScalarMappable
         from matplotlib.lines import Line2D
     except ImportError:
-        raise PictureUnavailable("no picture (install matplotlib, e.g. pip install "
-                                 "'vlb-gym[rl]', or Graphviz)") from None
+        raise PictureUnavailable("no picture (matplotlib, a dependency of vlb-gym, is missing: "
+                                 "pip install matplotlib)") from None
     import networkx as nx
 
     from .plots import figure, png_of
