@@ -20,7 +20,7 @@ from scipy.stats import beta
 
 from vlb_gym.reports import graph as report_graph
 from vlb_gym.reports import write_report_dir
-from vlb_gym.reports.attribution import node_stats, plan_behaviors
+from vlb_gym.reports.attribution import NodeStats, node_stats, plan_behaviors
 from vlb_gym.reports.png import encode_png
 from vlb_gym.verify.campaign import Campaign, CampaignConfig
 from vlb_gym.verify.policies import PolicyRef
@@ -158,10 +158,28 @@ def test_graph_pictures_with_and_without_graphviz(campaign, monkeypatch, which):
                             lambda name: "/bin/false" if which == "broken dot" else None)
     specs = plan_behaviors(campaign["plan"])
     stats = node_stats(specs, campaign["episodes"], MAIN)
-    png, how = report_graph.behavior_png(specs[MAIN], stats[MAIN], 5, "main behavior")
+    png, how = report_graph.behavior_png(specs[MAIN], stats[MAIN], "main behavior")
     assert how == ("graphviz" if which == "dot" else "networkx")
     width, height = _png_size(png)
     assert 200 <= width <= 1200 and 100 <= height <= 900
+
+
+def test_nodes_are_coloured_by_their_failure_rate_not_their_count():
+    """33 failures in 37,155 runs is rare (pale), 3 in 4 is not (red), whatever the worst node
+    of the graph counts."""
+    rare, common = report_graph.failure_shade(33, 37_155), report_graph.failure_shade(3, 4)
+    assert rare < 0.05 and common > 0.9
+    assert report_graph.failure_colour(0, 10) == report_graph.NO_FAILURE
+    assert report_graph.failure_shade(1, 10) == pytest.approx(2 / 3)  # 10%: two decades up
+    dot = report_graph.to_dot({"nodes": [{"id": "a", "primitive": "sense"},
+                                         {"id": "b", "primitive": "navigate"}],
+                               "start": {"node": "a"}, "terminals": ["b"],
+                               "edges": [{"from": "a", "to": "b"}]},
+                              {"a": NodeStats(37_155, 33), "b": NodeStats(4, 3)}, "t")
+    fills = dict(re.findall(r'(n[01]) \[label=.*?fillcolor="(#[0-9a-f]{6})"', dot))
+    assert fills["n0"] == report_graph.failure_colour(33, 37_155)
+    assert fills["n1"] == report_graph.failure_colour(3, 4) != fills["n0"]
+    assert "0.1% of runs" in dot and "100% of runs" in dot
 
 
 def test_untrusted_strings_are_escaped(campaign, tmp_path):

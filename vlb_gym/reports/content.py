@@ -21,7 +21,8 @@ from .png import encode_png, pick, thumbnail
 MAX_FAILED_ROWS = 25
 MAX_TRACEBACKS = 3
 MAX_FRAMES = 6
-MATPLOTLIB_MISSING = "no picture (matplotlib, a dependency of vlb-gym, is missing: pip install matplotlib)"
+MATPLOTLIB_MISSING = ("no picture (matplotlib, a dependency of vlb-gym, is missing: pip install "
+                      "matplotlib)")
 
 
 def joined(parts: list[Inline], separator: str = ", ") -> list[Inline]:
@@ -231,11 +232,11 @@ def graph_blocks(report: dict[str, Any], plan: Plan,
     if not order:
         return blocks + [Paragraph(["The plan holds no behavior specs: no picture."])]
     stats = attribution.node_stats(specs, episodes, order[0])
-    most = max((s.failed for table in stats.values() for s in table.values()), default=0)
     approximate = any(s.approximate for table in stats.values() for s in table.values())
     blocks.append(Paragraph([
-        "Nodes are coloured by failed certificates (pale green: none; yellow to red: few to "
-        "most); labels give failed / steps run at the node",
+        "Nodes are coloured by the share of their steps whose certificate failed (pale green: "
+        "none; yellow, 0.1% or less, to red, all: a log scale); labels give failed / steps run "
+        "at the node",
         "; ~ marks counts attributed by primitive because the node was not recorded"
         if approximate else "",
         ". Double outline: terminal node; box: sub-behavior (its count totals its nodes); edge "
@@ -245,7 +246,7 @@ def graph_blocks(report: dict[str, Any], plan: Plan,
         role = "main behavior" if i == 0 else "sub-behavior"
         title = f"{role}: {spec.get('name', key)}"
         try:
-            png, how = graph.behavior_png(spec, stats.get(key, {}), most, title)
+            png, how = graph.behavior_png(spec, stats.get(key, {}), title)
         except graph.PictureUnavailable as exc:
             blocks.append(Paragraph([f"{title}: {exc}"]))
             continue

@@ -1,4 +1,4 @@
-"""Pictures of behavior graphs, nodes coloured by failed certificates.
+"""Pictures of behavior graphs, nodes coloured by the rate of their failed certificates.
 
 Graphviz's ``dot`` draws them when it is on PATH; otherwise networkx lays them out and matplotlib
 draws them. Terminal nodes have a double outline, sub-behavior nodes are boxes, edges carry their
@@ -7,6 +7,7 @@ guards (truncated) and a dot marks the start node.
 
 from __future__ import annotations
 
+import math
 import shutil
 import subprocess
 from collections.abc import Mapping
@@ -32,13 +33,27 @@ def _mix(a: str, b: str, t: float) -> str:
     return "#" + "".join(f"{round(x + (y - x) * t):02x}" for x, y in zip(ca, cb, strict=True))
 
 
-def failure_colour(failed: int, most: int) -> str:
-    """Fill colour of a node with ``failed`` failed certificates when the worst node has ``most``:
-    pale green for none, yellow for one up to red for the most."""
+RATES = (0.001, 0.01, 0.1, 1.0)  # the colour scale's marks: yellow at 0.1% or less, red at all
+
+
+def failure_shade(failed: int, runs: int) -> float:
+    """Where a node with ``failed`` of ``runs`` certificates failed lies on the colour scale, in
+    [0, 1]: by its failure *rate*, on a log scale from 0.1% (0) to 100% (1), so that 33 failures
+    in 37,155 runs read as rare; a node whose runs are unknown counts as failing every time."""
+    rate = failed / runs if runs else 1.0
+    return min(1.0, max(0.0, math.log10(max(rate, RATES[0]) / RATES[0]) / 3))
+
+
+def failure_colour(failed: int, runs: int) -> str:
+    """Fill colour of a node with ``failed`` of ``runs`` certificates failed: pale green for
+    none, yellow (0.1% of its runs or fewer) to red (all of them) by :func:`failure_shade`."""
     if failed <= 0:
         return NO_FAILURE
-    most = max(most, 1)
-    return _mix(FEW_FAILURES, MANY_FAILURES, 0.0 if most == 1 else (failed - 1) / (most - 1))
+    return _mix(FEW_FAILURES, MANY_FAILURES, failure_shade(failed, runs))
+
+
+def _rate_words(rate: float) -> str:
+    return f"{rate:.1%}".replace(".0%", "%")
 
 
 def node_label(node: Mapping[str, Any], stats: NodeStats) -> str:
@@ -66,8 +81,7 @@ def _dot_quote(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
 
 
-def to_dot(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: int,
-           title: str) -> str:
+def to_dot(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], title: str) -> str:
     """The DOT text of one behavior graph (nodes renamed n0, n1, ...; labels quoted)."""
     nodes = list(spec.get("nodes", []))
     ids = {str(node.get("id")): f"n{i}" for i, node in enumerate(nodes)}
@@ -82,10 +96,10 @@ def to_dot(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: int,
         info = stats.get(node_id, NodeStats())
         shape = "box3d" if child_ref(node) else "ellipse"
         extra = f', color="{SUB_BEHAVIOR_EDGE}", penwidth=2' if child_ref(node) else ""
-        if info.failed > 0 and info.failed >= 0.6 * max(most, 1):
+        if info.failed > 0 and failure_shade(info.failed, info.runs) >= 0.6:
             extra += ", fontcolor=white"  # readable on dark red
         lines.append(f"  {ids[node_id]} [label={_dot_quote(node_label(node, info))}, "
-                     f'shape={shape}, fillcolor="{failure_colour(info.failed, most)}", '
+                     f'shape={shape}, fillcolor="{failure_colour(info.failed, info.runs)}", '
                      f"peripheries={2 if node_id in terminals else 1}{extra}];")
     start = spec.get("start") or {}
     if str(start.get("node")) in ids:
@@ -103,12 +117,14 @@ def to_dot(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: int,
     lines += ["  subgraph cluster_legend {",
               '    label="legend"; fontsize=10; color="#999999"; style=rounded;',
               '    node [fontsize=9, width=0.3, height=0.3];',
-              f'    l0 [label="no failed\\ncertificate", fillcolor="{NO_FAILURE}"];',
-              f'    l1 [label="1 failed", fillcolor="{failure_colour(1, most)}"];']
-    legend = ["l0", "l1"]
-    if most > 1:
-        lines.append(f'    l2 [label="{most} failed", fillcolor="{failure_colour(most, most)}"];')
-        legend.append("l2")
+              f'    l0 [label="no failed\\ncertificate", fillcolor="{NO_FAILURE}"];']
+    legend = ["l0"]
+    for k, rate in enumerate(RATES, 1):
+        failed = round(rate * 1000)
+        white = ", fontcolor=white" if failure_shade(failed, 1000) >= 0.6 else ""
+        lines.append(f'    r{k} [label="{_rate_words(rate)} of runs\\nfailed", '
+                     f'fillcolor="{failure_colour(failed, 1000)}"{white}];')
+        legend.append(f"r{k}")
     lines += ['    l3 [label="terminal", fillcolor=white, peripheries=2];',
               f'    l4 [label="sub-behavior", shape=box3d, fillcolor=white, '
               f'color="{SUB_BEHAVIOR_EDGE}", penwidth=2];',
@@ -126,8 +142,7 @@ def dot_png(dot_text: str, dot: str) -> bytes:
     return done.stdout
 
 
-def networkx_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: int,
-                 title: str) -> bytes:
+def networkx_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], title: str) -> bytes:
     """The graph drawn by networkx and matplotlib (layered from the start node)."""
     try:
         from matplotlib.colors import LinearSegmentedColormap, Normalize
@@ -163,7 +178,8 @@ def networkx_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: 
     ax = fig.add_subplot(1, 1, 1)
     ax.set_title(title, fontsize=11)
     ax.set_axis_off()
-    colour = {n: failure_colour(stats.get(n, NodeStats()).failed, most) for n in graph}
+    colour = {n: failure_colour(stats.get(n, NodeStats()).failed, stats.get(n, NodeStats()).runs)
+              for n in graph}
     for shape, members in (("o", [n for n in graph if n in nodes and not child_ref(nodes[n])]),
                            ("s", [n for n in graph if n in nodes and child_ref(nodes[n])]),
                            ("8", [n for n in graph if n not in nodes])):
@@ -193,11 +209,12 @@ def networkx_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: 
     ys = [p[1] for p in pos.values()] or [0.0]
     ax.set_xlim(min(xs) - 0.6, max(xs) + 0.6)
     ax.set_ylim(min(ys) - 0.5, max(ys) + 0.5)
-    cmap = LinearSegmentedColormap.from_list(
-        "failures", [(0.0, NO_FAILURE), (min(0.5 / max(most, 1), 0.49), FEW_FAILURES),
-                     (1.0, MANY_FAILURES)])
-    bar = fig.colorbar(ScalarMappable(Normalize(0, max(most, 1)), cmap), ax=ax, shrink=0.6)
-    bar.set_label("failed certificates", fontsize=8)
+    cmap = LinearSegmentedColormap.from_list("failures", [(0.0, FEW_FAILURES),
+                                                          (1.0, MANY_FAILURES)])
+    bar = fig.colorbar(ScalarMappable(Normalize(0.0, 1.0), cmap), ax=ax, shrink=0.6,
+                       ticks=[failure_shade(round(r * 1000), 1000) for r in RATES])
+    bar.ax.set_yticklabels([("<= " if r == RATES[0] else "") + _rate_words(r) for r in RATES])
+    bar.set_label("failed certificates, share of the node's runs (green: none)", fontsize=8)
     ax.legend(handles=[
         Line2D([], [], marker="o", ls="", mfc="white", mec="#333333", ms=10, label="primitive"),
         Line2D([], [], marker="s", ls="", mfc="white", mec=SUB_BEHAVIOR_EDGE, mew=2, ms=10,
@@ -207,13 +224,13 @@ def networkx_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: 
     return png_of(fig)
 
 
-def behavior_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], most: int,
-                 title: str) -> tuple[bytes, str]:
+def behavior_png(spec: Mapping[str, Any], stats: Mapping[str, NodeStats], title: str
+                 ) -> tuple[bytes, str]:
     """``(png, how)``: the picture and what drew it (``"graphviz"`` or ``"networkx"``)."""
     dot = shutil.which("dot")
     if dot:
         try:
-            return dot_png(to_dot(spec, stats, most, title), dot), "graphviz"
+            return dot_png(to_dot(spec, stats, title), dot), "graphviz"
         except (OSError, RuntimeError, subprocess.TimeoutExpired):
             pass  # fall through to the networkx picture
-    return networkx_png(spec, stats, most, title), "networkx"
+    return networkx_png(spec, stats, title), "networkx"
