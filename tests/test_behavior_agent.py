@@ -196,7 +196,7 @@ def test_after_another_action_the_wrapper_stands_aside():
         assert not info["on_behavior"]
         steps += 1
     assert steps == 30 and truncated and not terminated and info["rho_B"] == -1
-    assert info["failure_reason"] == "truncated: step bound"
+    assert info["failure_reason"] == "truncated: step bound reached after 30 primitives"
 
 
 def test_robustness_is_added_when_missing_and_env_checker_passes():

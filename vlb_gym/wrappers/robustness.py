@@ -75,7 +75,8 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
         terminated is finished, truncated is not (the step bound); else nothing."""
         if not (terminated or truncated):
             return {}
-        return self.end(terminated, None if terminated else "truncated: step bound",
+        bound = f"truncated: step bound reached after {len(self.certificates)} primitives"
+        return self.end(terminated, None if terminated else bound,
                         None if terminated else "step bound")
 
     def act(self, policy: Any, observation: Any) -> tuple[Any, Any]:
