@@ -87,3 +87,35 @@ def test_env_module_files_travel(tmp_path):
         expected = records(campaign.episodes(backend="serial"))
         module.write_text("raise RuntimeError('edited after the plan')\n")
         assert records(campaign.episodes(workers=2, backend="process")) == expected
+
+
+def _parent_of(child_ref: str) -> dict:
+    return {"name": "parent", "description": "a sub-behavior, then stop", "env": GRID,
+            "nodes": [{"id": "child", "behavior": child_ref}], "start": {"node": "child"},
+            "terminals": ["child"]}
+
+
+@pytest.mark.parametrize("through", ["a symlinked folder", "a symlinked library file"])
+def test_workers_without_the_users_links_reach_every_shipped_file(tmp_path, monkeypatch,
+                                                                  through):
+    """A sub-behavior reached through a link the driver has and a worker lacks (a Ray node):
+    the worker reaches it as the driver's parent named it, and finds it shipped."""
+    real, library, folder = tmp_path / "real", tmp_path / "library", tmp_path / "behaviors"
+    for made in (real, library, folder):
+        made.mkdir()
+    shutil.copy(ROOT / "examples" / "fixed_cell.json", real / "child.json")
+    if through == "a symlinked folder":
+        (folder / "sub").symlink_to(real, target_is_directory=True)
+        parent = _parent_of("sub/child.json")
+        link = folder / "sub"
+    else:
+        (library / "my_child.json").symlink_to(real / "child.json")
+        monkeypatch.setenv("VLB_BEHAVIOR_DIR", str(library))
+        parent = _parent_of("my_child")
+        link = library / "my_child.json"
+    (folder / "parent.json").write_text(json.dumps(parent))
+    with Campaign(CampaignConfig(GRID, str(folder / "parent.json"), 30)) as campaign:
+        expected = records(campaign.episodes(backend="serial"))
+        link.unlink()  # what a worker elsewhere sees: no link, and no file behind it
+        shutil.rmtree(real)
+        assert records(campaign.episodes(workers=2, backend="process")) == expected

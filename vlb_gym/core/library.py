@@ -189,9 +189,26 @@ class BehaviorLoader:
         return load_behavior(ref.ref, env, library)
 
     def files(self, ref, policy: BehaviorPolicy) -> list[Path]:
-        """The behavior's files and its sub-behaviors' (shipped ones are no file of the user's)."""
-        return [Path(b.source) for b in behavior_tree(policy.behavior)
-                if Path(b.source).is_absolute()]
+        """The behavior's files and its sub-behaviors' (shipped ones are no file of the user's),
+        each as read and, where that differs, as a worker reaches it: from its parent's folder
+        or the library's, as the driver resolved those, through no link the worker may lack (a
+        symlinked folder or library file)."""
+        library = Path(ref.library).expanduser() if ref.library else user_dir()
+        paths = []
+        for behavior in behavior_tree(policy.behavior):
+            if not Path(behavior.source).is_absolute():
+                continue
+            paths.append(Path(behavior.source))
+            for node in behavior.spec.nodes:
+                if node.behavior is None:
+                    continue
+                if is_behavior_path(node.behavior):
+                    child = Path(behavior.source).parent / Path(node.behavior).expanduser()
+                else:
+                    child = library.resolve() / f"{node.behavior}.json"
+                if child.is_file():
+                    paths.append(Path(os.path.abspath(child)))
+        return list(dict.fromkeys(paths))
 
     def content(self, ref, policy: BehaviorPolicy) -> dict:
         """A digest of the whole tree of behaviors and their documents, by source (a

@@ -14,6 +14,7 @@ the plan's: a difference is :class:`InputsDiffer`, never a result.
 from __future__ import annotations
 
 import copy
+import os
 import platform
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -66,9 +67,12 @@ def _absolute(ref: str) -> str:
 def capture(config: CampaignConfig, policy_files: list[Path], plan: Plan) -> Inputs:
     """The inputs of the campaign of ``config`` with ``plan``, read now
     from ``policy_files`` and the config's module files."""
-    paths = [_absolute(str(p)) for p in policy_files]
-    paths += [_absolute(m) for m in config.env_modules if is_module_path(m)]
-    return Inputs({p: input_bytes(p) for p in paths},
+    files = {}
+    for path in [*map(str, policy_files),
+                 *(m for m in config.env_modules if is_module_path(m))]:
+        data = input_bytes(path)  # keyed as resolved here and as named (a worker may lack a link)
+        files[_absolute(path)] = files[os.path.abspath(Path(path).expanduser())] = data
+    return Inputs(files,
                   _absolute(config.policy.library or str(user_dir())), plan.content_sha256,
                   plan.sampling_distribution, dict(plan.versions))
 
