@@ -85,3 +85,20 @@ def test_options_are_checked():
         RayOptions(timeout=0)
     done = vlb([*VERIFY[:-3], "--ray-address", "127.0.0.1:1"])
     assert "--ray-address needs --backend ray" in one_error(done)
+
+
+@pytest.mark.timeout(240)
+def test_ray_workers_import_nothing_from_the_folder_the_command_runs_in(tmp_path):
+    """Ray puts the driver's folder first on its workers' import path unless the job has a
+    working_dir: a networkx.py where a campaign runs must not be what its actors import."""
+    for name in ("networkx", "pydantic", "scipy"):
+        (tmp_path / f"{name}.py").write_text(
+            f"open({str(tmp_path / ('HIT_' + name))!r}, 'w').close()\n"
+            "raise ImportError('a hostile module of the working folder')\n")
+    environment = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHONSAFEPATH": "1"}  # the driver
+    done = subprocess.run([sys.executable, "-m", "vlb_gym.cli", *VERIFY, "--workers", "1"],
+                          capture_output=True, text=True, timeout=200, env=environment,
+                          cwd=tmp_path, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "successes 20/20" in done.stdout or "P[success]" in done.stdout, done.stdout
+    assert not list(tmp_path.glob("HIT_*"))

@@ -195,18 +195,21 @@ def connect(ray: Any, options: RayOptions, cpus: int) -> None:
     """``ray.init``: to ``options.address``, or a private local instance of ``cpus`` CPUs;
     ClusterError in one line, within ``options.timeout``, where it cannot."""
     deadline = time.monotonic() + options.timeout
-    quiet = {"log_to_driver": False, "logging_level": logging.ERROR}
     address = options.address
-    with _stderr_to(log_path()):
+    with _stderr_to(log_path()), tempfile.TemporaryDirectory(prefix="vlb-ray-") as empty:
+        # an empty working_dir: Ray's workers then run there and import nothing from the
+        # folder this command runs in (Ray puts that folder first on their import path else)
+        settings = {"log_to_driver": False, "logging_level": logging.ERROR,
+                 "runtime_env": {"working_dir": empty}}
         try:
             if address is None:  # in this thread: Ray's processes die with the thread
                 with _sigint_held():  # that started them (PR_SET_PDEATHSIG)
-                    ray.init(address="local", num_cpus=cpus, include_dashboard=False, **quiet)
+                    ray.init(address="local", num_cpus=cpus, include_dashboard=False, **settings)
                 return
             _enable_found_token(address)
             _probe(address, deadline, ray)
             _within(deadline - time.monotonic(), f"Ray at {address}",
-                    lambda: ray.init(address=address, **quiet))
+                    lambda: ray.init(address=address, **settings))
         except ClusterError:
             raise
         except Exception as exc:
