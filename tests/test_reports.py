@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from scipy.stats import beta
 
 from vlb_gym.reports import graph as report_graph
@@ -284,3 +286,34 @@ def test_the_report_states_each_behaviors_promise_and_how_often_it_broke(campaig
         shown = name.replace("_", "\\_")
         assert f"Promise of {shown}: **" in text
         assert f"broken in **{count}** of 30 episode(s)." in text
+
+
+def test_a_report_draws_a_bounded_number_of_behavior_graphs(campaign, tmp_path):
+    """A plan listing 200 behaviors: the report draws MAX_GRAPHS and says how many it lists."""
+    from vlb_gym.reports.content import MAX_GRAPHS
+
+    plan = campaign["plan"]
+    specs = dict(plan.policy_content["behaviors"])
+    extra = next(iter(specs.values()))
+    listed = {**specs, **{f"/tmp/other_{k}.json": extra for k in range(200)}}
+    many = dataclasses.replace(plan, policy_content={**plan.policy_content, "behaviors": listed})
+    write_report_dir(tmp_path, campaign["report"], campaign["episodes"], many)
+    graphs = list((tmp_path / "figures").glob("graph-*.png"))
+    assert len(graphs) == MAX_GRAPHS
+    assert f"The plan lists {len(listed)} behaviors" in (tmp_path / "report.md").read_text()
+
+
+@given(count=st.integers(0, 2000), cap=st.integers(2, 64))
+def test_a_film_is_thinned_as_it_comes_to_evenly_spaced_frames(count, cap):
+    from vlb_gym.verify.replay import FrameSample
+
+    sample = FrameSample(cap)
+    for k in range(count):
+        sample(np.array([k]))
+    kept = [int(f[0]) for f in sample.frames()]
+    assert len(kept) <= cap + 1 and kept == sorted(set(kept))
+    if count:
+        assert kept[0] == 0 and kept[-1] == count - 1  # the first and the last frame
+        steps = {b - a for a, b in zip(kept[:-2], kept[1:-1])}
+        assert len(steps) <= 1  # evenly spaced but for the last
+        assert len(kept) >= min(count, cap // 2)

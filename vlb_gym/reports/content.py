@@ -21,6 +21,7 @@ from .png import encode_png, pick, thumbnail
 MAX_FAILED_ROWS = 25
 MAX_TRACEBACKS = 3
 MAX_FRAMES = 6
+MAX_GRAPHS = 12  # behavior graphs drawn in one report
 MATPLOTLIB_MISSING = ("no picture (matplotlib, a dependency of vlb-gym, is missing: pip install "
                       "matplotlib)")
 
@@ -241,7 +242,11 @@ def graph_blocks(report: dict[str, Any], plan: Plan,
         if approximate else "",
         ". Double outline: terminal node; box: sub-behavior (its count totals its nodes); edge "
         "labels: guards (truncated); the dot marks the start node."]))
-    for i, key in enumerate(order):
+    if len(order) > MAX_GRAPHS:  # a plan may list thousands: a report draws what it shows
+        blocks.append(Paragraph([f"The plan lists {len(order)} behaviors: the first "
+                                 f"{MAX_GRAPHS} are drawn ({order[0]} and its sub-behaviors "
+                                 "in order)."]))
+    for i, key in enumerate(order[:MAX_GRAPHS]):
         spec = specs[key]
         role = "main behavior" if i == 0 else "sub-behavior"
         title = f"{role}: {spec.get('name', key)}"

@@ -50,21 +50,53 @@ MAX_REPLAY_PRIMITIVES = 10_000
 bound is data from elsewhere."""
 
 
+class FrameSample:
+    """The frames of a film thinned as they come, so that at most about ``cap`` are held
+    however long the film: every frame while they are few, then every 2nd, 4th, ... (evenly
+    spaced), and always the last one (where an episode failed)."""
+
+    def __init__(self, cap: int):
+        self.cap, self.every, self.seen = cap, 1, 0
+        self.kept: list[tuple[int, np.ndarray]] = []
+        self.last: tuple[int, np.ndarray] | None = None
+
+    def __call__(self, frame: np.ndarray) -> None:
+        if self.seen % self.every == 0:
+            self.kept.append((self.seen, frame))
+            if len(self.kept) > self.cap:
+                self.every *= 2
+                self.kept = [(i, f) for i, f in self.kept if i % self.every == 0]
+        self.last = (self.seen, frame)
+        self.seen += 1
+
+    def frames(self) -> list[np.ndarray]:
+        kept = list(self.kept)
+        if self.last is not None and (not kept or kept[-1][0] != self.last[0]):
+            kept.append(self.last)
+        return [frame for _, frame in kept]
+
+
 def filmed(env: Any, policy: Any, config: CampaignConfig, seed: int, index: int = 0,
-           film: bool = True, max_primitives: int | None = None
+           film: bool = True, max_primitives: int | None = None, max_frames: int | None = None
            ) -> tuple[EpisodeResult, list[np.ndarray]]:
     """Episode ``index`` (reset seed ``seed``) of ``policy`` on ``env`` (built with
-    ``render_mode="rgb_array"`` to film it) and its frames (none unless ``film``), at most
+    ``render_mode="rgb_array"`` to film it) and its frames (none unless ``film``; about
+    ``max_frames`` of them, evenly spaced, where given: :class:`FrameSample`), at most
     ``max_primitives`` primitives long (a stored episode's replay: as many as its record
     holds, whatever step bound the store names)."""
-    frames: list[np.ndarray] = []
+    every: list[np.ndarray] = []
+    sample = FrameSample(max_frames) if max_frames is not None else None
     if film:
-        env.unwrapped.film(frames.append)
+        env.unwrapped.film(sample if sample is not None else every.append)
     try:
-        return run_episode(env, policy, seed, index, config.stop_on_failure,
-                           max_primitives=max_primitives), frames
+        result = run_episode(env, policy, seed, index, config.stop_on_failure,
+                             max_primitives=max_primitives)
+        return result, sample.frames() if sample is not None else every
     finally:
         env.unwrapped.film(None)
+
+
+REPORT_FRAMES = 48  # frames a report's replay holds per episode, however long it ran
 
 
 def episode_frames(plan: Plan, episodes: Sequence[EpisodeResult]
@@ -86,7 +118,7 @@ def episode_frames(plan: Plan, episodes: Sequence[EpisodeResult]
             if record is not None:
                 frames[f"{label} episode {record.index}"] = filmed(
                     env, policy, config, record.seed, record.index,
-                    max_primitives=len(record.steps))[1]
+                    max_primitives=len(record.steps), max_frames=REPORT_FRAMES)[1]
         return frames, None
     finally:
         env.close()
