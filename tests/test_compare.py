@@ -474,3 +474,23 @@ def test_a_side_that_is_not_the_comparisons_is_refused(tmp_path, capsys, change)
     assert main(["report", str(store)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "the stored plan is not valid" in err, err
+
+
+@pytest.mark.parametrize("n", [2500, 6000])
+def test_the_truncated_sum_bounds_the_whole_one_from_above_and_closely(n, monkeypatch):
+    """Above WHOLE_SUM_PAIRS the exact test's tail sums only the discordant counts that carry
+    mass and adds the rest as if each gave the tail: never below the whole sum, within 3e-13."""
+    s = np.linspace(0.05, 0.09, 50)
+    d = np.minimum(0.01, s)
+    for t in (-30, 0, 25, 60):
+        monkeypatch.setattr(paired, "WHOLE_SUM_PAIRS", 10 ** 9)
+        whole = paired._tails(n, t, d, s)
+        monkeypatch.setattr(paired, "WHOLE_SUM_PAIRS", 2000)
+        truncated = paired._tails(n, t, d, s)
+        assert (truncated >= whole - 1e-14).all() and (truncated - whole).max() <= 3e-13
+
+
+def test_an_interval_of_80000_pairs_is_computed_and_holds_the_observed_difference():
+    counts = PairCounts(both=70_000, a_only=1_300, b_only=1_700, neither=7_000)
+    low, high = paired.unconditional_bounds(counts, 0.05)
+    assert low < (1_700 - 1_300) / 80_000 < high and high - low < 0.005

@@ -134,17 +134,32 @@ def mcnemar_p(counts: PairCounts) -> float:
     return float(binom.sf(counts.b_only - 1, counts.discordant, 0.5))
 
 
+WHOLE_SUM_PAIRS = 2000  # above this many pairs, the sum over discordant counts is truncated
+TRUNCATION = 1e-13  # where: each end leaves out at most this much of M's mass, added back
+
+
 def _tails(n: int, t: int, d: np.ndarray, s: np.ndarray) -> np.ndarray:
     """``P[b_only - a_only >= t]`` for ``n`` pairs at each discordance ``s`` and difference
     ``d`` (``P[only B] = (s + d) / 2``, ``P[only A] = (s - d) / 2``), exactly: the discordant
     count ``M`` is Binomial(n, s) and, given ``M = m``, ``b_only`` is Binomial(m, (s + d) /
-    (2 s))."""
+    (2 s)). Above :data:`WHOLE_SUM_PAIRS` pairs the sum runs over the counts ``M`` takes but
+    with probability below :data:`TRUNCATION` at each end, and the rest is added as if it gave
+    the tail for sure: never less than the exact value, at most 2e-13 more, in time that grows
+    with the square root of ``n`` (a report of 80,000 pairs no longer takes minutes)."""
     from scipy.stats import binom
 
-    m = np.arange(n + 1)[:, None]
+    first, last = 0, n
+    if n > WHOLE_SUM_PAIRS:  # the discordant counts the grid's s can give: its extremes' bulk
+        first = int(binom.ppf(TRUNCATION, n, float(s.min())))
+        last = int(binom.isf(TRUNCATION, n, float(s.max())))
+    m = np.arange(first, last + 1)[:, None]
     need = np.ceil((m + t) / 2.0)  # b_only >= (m + t) / 2
     q = np.clip((s + d) / (2 * s), 0.0, 1.0)[None, :]
-    return np.clip((binom.pmf(m, n, s[None, :]) * binom.sf(need - 1, m, q)).sum(axis=0), 0, 1)
+    inside = (binom.pmf(m, n, s[None, :]) * binom.sf(need - 1, m, q)).sum(axis=0)
+    # the counts left out, counted as if each gave the tail for sure: an upper bound, within
+    # 2 x TRUNCATION of the exact sum (M is stochastically increasing in s)
+    outside = binom.cdf(first - 1, n, s) + binom.sf(last, n, s) if n > WHOLE_SUM_PAIRS else 0.0
+    return np.clip(inside + outside, 0, 1)
 
 
 def unconditional_p(counts: PairCounts, d0: float) -> float:
