@@ -657,3 +657,36 @@ def test_report_out_is_never_where_sqlite_keeps_the_store(tmp_path, capsys, suff
     assert err.count("\n") == 1 and "is an input of this command" in err
     assert not Path(f"{store}{suffix}").is_dir()
     assert main(["report", str(store)]) == 0  # the store still opens
+
+
+# errors of the package's own making that are not about the user's input: outcomes of an
+# episode (a controller, an IK or a perception failure fail that episode), a picture a report
+# goes without, a worker's traceback carried home, and private signals of one module
+NOT_USER_ERRORS = {"PerceptionFailure", "IKFailure", "ControllerFailure", "PictureUnavailable",
+                   "RemoteTraceback", "_Failed", "_Failure"}
+
+
+def test_every_error_about_what_the_user_gave_is_a_user_error():
+    """One hierarchy: every exception class vlb-gym defines is a UserError (the CLI's one line
+    and exit 2; a library caller's one except clause) unless it is listed as something else."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    import vlb_gym
+    from vlb_gym import UserError
+
+    defined = {}
+    for module in pkgutil.walk_packages(vlb_gym.__path__, "vlb_gym."):
+        if module.name.endswith("__main__"):  # runs the command line
+            continue
+        loaded = importlib.import_module(module.name)
+        for name, value in vars(loaded).items():
+            if inspect.isclass(value) and issubclass(value, BaseException) \
+                    and value.__module__ == loaded.__name__:
+                defined[name] = value
+    assert NOT_USER_ERRORS <= set(defined)
+    users = {n for n, c in defined.items() if issubclass(c, UserError)}
+    assert users | NOT_USER_ERRORS == set(defined), set(defined) - users - NOT_USER_ERRORS
+    assert {"BehaviorSpecError", "InputFileError", "StoreError", "UsageError", "EnvSetupError",
+            "ClusterError"} <= users

@@ -14,6 +14,7 @@ from ._lazy import lazy_names
 
 if TYPE_CHECKING:
     from .core import BehaviorPolicy, BehaviorSpecError, load_behavior, shipped_behaviors
+    from .core.errors import UserError
     from .wrappers import BehaviorAgent, BehaviorFinished, RobustnessWrapper
 
 __version__ = "0.1.0"
@@ -39,8 +40,9 @@ for _id, _entry_point, _steps in ENVS + RL_TASKS:
         register(id=_id, entry_point=_entry_point, max_episode_steps=_steps)
 
 __all__ = ["ENV_IDS", "ENVS", "RL_TASKS", "BehaviorAgent", "BehaviorFinished", "BehaviorPolicy",
-           "BehaviorSpecError", "RobustnessWrapper", "load_behavior", "shipped_behaviors",
-           "__version__"]
+           "BehaviorSpecError", "RobustnessWrapper", "UserError", "load_behavior",
+           "shipped_behaviors", "__version__"]
 __getattr__, __dir__ = lazy_names(__name__, globals(), {
     ".core": ("BehaviorPolicy", "BehaviorSpecError", "load_behavior", "shipped_behaviors"),
+    ".core.errors": ("UserError",),
     ".wrappers": ("BehaviorAgent", "BehaviorFinished", "RobustnessWrapper")})

@@ -14,11 +14,13 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
-
+from vlb_gym.core.errors import UserError
 from vlb_gym.core.files import InputFileError, load_json, read_limited
 
 Message = dict[str, str]
-class BackendError(RuntimeError):
+
+
+class BackendError(UserError, RuntimeError):
     """The backend could not produce a reply (after its retries); the message says why.
 
     ``status`` and ``body`` are the HTTP status and body of the last reply when that was an HTTP

@@ -14,6 +14,7 @@ import gymnasium as gym
 from vlb_gym.core.compiler import CompiledBehavior
 from vlb_gym.core.files import write_atomic
 from vlb_gym.core.library import BehaviorLibrary, compile_for, spec_json
+from vlb_gym.core.errors import UserError
 from vlb_gym.core.spec import BehaviorSpecError
 
 from .backends import BackendError, ChatBackend
@@ -21,7 +22,7 @@ from .prompt import PROMPT_VERSION, PromptContext, build_messages, repair_messag
 from .validate import validate_reply
 
 
-class SynthesisError(RuntimeError):
+class SynthesisError(UserError, RuntimeError):
     """No valid behavior came back within the allowed rounds; ``transcript`` says what happened."""
 
     def __init__(self, message: str, transcript: dict[str, Any]):

@@ -15,10 +15,11 @@ import threading
 from collections.abc import Iterator
 
 import vlb_gym
+from vlb_gym.core.errors import UserError
 from vlb_gym.core.text import bounded
 
 from . import baselines, compare, language, library, replay, report, verify
-from .common import Parser, UsageError
+from .common import Parser
 from .terminal import neutral_output
 
 
@@ -54,9 +55,10 @@ def _run(args) -> int:
     except KeyboardInterrupt:
         print(f"vlb {args.command}: interrupted", file=sys.stderr)
         return 130
-    except (UsageError, OSError, ValueError, ImportError) as exc:
-        # BehaviorSpecError (an invalid behavior) and InputFileError (an unusable input file)
-        # are ValueErrors
+    except (UserError, OSError, ValueError, ImportError) as exc:
+        # UserError: every error of vlb-gym about what the user gave it (a bad argument, an
+        # invalid behavior, an unusable file, a store that does not match, ...); the others:
+        # what the system or a library says of the same (a missing file, a failed import)
         print(f"vlb {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
         return 2
 

@@ -14,13 +14,14 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 import gymnasium as gym
 
+from vlb_gym.core.errors import UserError
 from vlb_gym.core.text import bounded
 
 if TYPE_CHECKING:
     from vlb_gym.verify.records import Plan
 
 
-class UsageError(Exception):
+class UsageError(UserError):
     """Bad input from the command line; printed without a traceback, exit code 2."""
 
 

@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from .errors import UserError
+
 MAX_SIZE = 10_000  # elements in a list/tuple/string an operation builds (nested ones counted)
 MAX_WORK = 1_000_000  # work units per top-level evaluation
 MAX_CALLS = 10_000  # calls of behavior functions per top-level evaluation
@@ -34,7 +36,7 @@ def _returns_list(function: Callable[..., Any]) -> bool:
     return str(inspect.signature(function).return_annotation).startswith(("list", "List"))
 
 
-class EvaluationLimitError(ValueError):
+class EvaluationLimitError(UserError, ValueError):
     """An evaluation exceeded a limit of its :class:`Budget`; the message names the limit."""
 
 

@@ -33,6 +33,7 @@ from typing import Any
 
 
 from .budget import Budget
+from .errors import UserError
 
 MAX_SOURCE_CHARS = 2000
 MAX_NODES = 400
@@ -53,7 +54,7 @@ BUILTINS = frozenset({"len", "min", "max", "any", "all", "abs", "round", "int", 
                       "sorted", "sum", "argmax", "argmin"})
 
 
-class ExpressionError(ValueError):
+class ExpressionError(UserError, ValueError):
     """An expression is malformed, forbidden or too large; the message says why and where."""
 
 

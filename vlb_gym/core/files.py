@@ -19,13 +19,15 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
+from .errors import UserError
+
 MAX_FILE_BYTES = 1_000_000
 MAX_JSON_DEPTH = 64
 
 _SHIPPED: list[Mapping[str, bytes]] = []  # the files of the innermost shipped() block
 
 
-class InputFileError(ValueError):
+class InputFileError(UserError, ValueError):
     """An input file cannot be used; the message names the file and says why."""
 
 
@@ -150,7 +152,7 @@ def read_json_file(path: str | os.PathLike[str], what: str, kind: type = dict) -
     return data
 
 
-class OutputFileError(OSError):
+class OutputFileError(UserError, OSError):
     """An output file could not be written (a full disk, a file size limit): the message names
     it."""
 

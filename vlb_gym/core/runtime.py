@@ -21,12 +21,13 @@ import numpy as np
 
 from .compiler import CompiledBehavior
 from .env import PrimitiveEnv
+from .errors import UserError
 from .budget import Budget, EvaluationLimitError
 from .expressions import Expression, guard_namespace
 from .promise import Claim
 
 
-class BehaviorRuntimeError(RuntimeError):
+class BehaviorRuntimeError(UserError, RuntimeError):
     """A behavior failed while running (a runtime error in the graph); the episode fails."""
 
 

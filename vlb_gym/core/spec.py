@@ -33,6 +33,7 @@ from typing import Annotated, Any
 from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, StringConstraints,
                       ValidationError, model_validator)
 
+from .errors import UserError
 from .files import InputFileError, load_json
 from .names import IDENTIFIER_PATTERN, MAX_NAME_LENGTH
 
@@ -69,7 +70,7 @@ MAX_VARIABLES = 64
 MAX_ERRORS_SHOWN = 5
 
 
-class BehaviorSpecError(ValueError):
+class BehaviorSpecError(UserError, ValueError):
     """A behavior file is invalid; the message names the file and the place, ``layer`` the check."""
 
     def __init__(self, message: str, layer: str = "references"):

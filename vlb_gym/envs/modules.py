@@ -17,6 +17,7 @@ from typing import Any
 
 import gymnasium as gym
 
+from vlb_gym.core.errors import UserError
 from vlb_gym.core.files import input_bytes
 
 _BY_PATH: dict[Path, ModuleType] = {}
@@ -50,7 +51,7 @@ def import_env_module(ref: str) -> ModuleType:
     return module
 
 
-class EnvSetupError(ValueError):
+class EnvSetupError(UserError, ValueError):
     """The environment cannot be made as asked: unknown id, a module that fails to import,
     settings the env refuses."""
 

@@ -26,6 +26,8 @@ import traceback
 from collections.abc import Callable, Iterable, Iterator, Sequence, Sized
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from vlb_gym.core.errors import UserError
+
 from .chunks import ChunkQueue, count
 
 if TYPE_CHECKING:
@@ -46,7 +48,7 @@ GUARD_MESSAGE = (
     "code (see the multiprocessing docs, 'Safe importing of main module')")
 
 
-class BackendError(RuntimeError):
+class BackendError(UserError, RuntimeError):
     """A backend cannot run the work as asked (a cluster out of reach or out of workers,
     inputs that differ on a worker); the message is one line for the user."""
 

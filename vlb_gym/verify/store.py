@@ -21,6 +21,8 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from vlb_gym.core.errors import UserError
+
 from .records import (ComparisonPlan, EpisodeResult, PairResult, Plan,
                       comparison_plan_from_json, episode_from_json, first_error,
                       pair_from_json, plan_from_json)
@@ -42,7 +44,7 @@ def parting(a: Any, b: Any, width: int = 80) -> tuple[str, str]:
     return cut(ra), cut(rb)
 
 
-class StoreError(ValueError):
+class StoreError(UserError, ValueError):
     """The store cannot be used: not a store, corrupt, or holding another campaign."""
 
 

@@ -19,6 +19,7 @@ from typing import Annotated, Any, Literal, Protocol, Union
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
+from vlb_gym.core.errors import UserError
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.core.spec import BehaviorSpecError
 
@@ -76,7 +77,7 @@ class Calls(_Call):
 CALLS = TypeAdapter(Calls)
 
 
-class SetupError(ValueError):
+class SetupError(UserError, ValueError):
     """A request or command that cannot be carried out; the message says why."""
 
 
