@@ -232,3 +232,17 @@ def test_a_record_missing_a_field_or_of_another_shape_is_refused(store, edit, ca
         assert main(command) == 2, command
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "stored episode 0 is not valid" in err, err
+
+
+def test_a_record_longer_than_any_episode_writes_is_refused_before_it_is_parsed(store, capsys,
+                                                                                 monkeypatch):
+    """A record of millions of steps would take gigabytes as objects: its length is checked
+    first (the limit lowered here, so that the test writes kilobytes, not 64 MB)."""
+    from vlb_gym.verify import store as store_module
+
+    monkeypatch.setattr(store_module, "MAX_RECORD_CHARS", 5_000)
+    edit_episode(store, 0, lambda record: record.update(steps=record["steps"] * 200))
+    capsys.readouterr()
+    assert main(["report", str(store)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "stored episode 0 is" in err and "at most 5,000" in err

@@ -27,6 +27,7 @@ from .records import (ComparisonPlan, EpisodeResult, PairResult, Plan,
                       comparison_plan_from_json, episode_from_json, first_error,
                       pair_from_json, plan_from_json)
 
+MAX_RECORD_CHARS = 64_000_000  # an episode's record: about 600,000 steps
 APPLICATION_ID = 0x564C4231  # "VLB1", in the SQLite header: marks the file as a vlb-gym store
 COMPARISON_APPLICATION_ID = 0x564C4232  # "VLB2": a comparison's store
 
@@ -235,7 +236,12 @@ class CampaignStore:
         return self._checked(episode_from_json, index, text)
 
     def _checked(self, read: Any, index: Any, text: Any) -> Any:
-        """Record ``index`` read by ``read`` (StoreError naming it otherwise)."""
+        """Record ``index`` read by ``read`` (StoreError naming it otherwise); one longer than
+        :data:`MAX_RECORD_CHARS` is refused before it is parsed (its objects would take many
+        times its size)."""
+        if isinstance(text, (str, bytes)) and len(text) > MAX_RECORD_CHARS:
+            raise StoreError(f"{self.path}: stored episode {index} is {len(text):,} characters "
+                             f"long, more than a record holds (at most {MAX_RECORD_CHARS:,})")
         try:
             record = read(text)
         except (ValidationError, TypeError) as exc:
