@@ -690,3 +690,16 @@ def test_every_error_about_what_the_user_gave_is_a_user_error():
     assert users | NOT_USER_ERRORS == set(defined), set(defined) - users - NOT_USER_ERRORS
     assert {"BehaviorSpecError", "InputFileError", "StoreError", "UsageError", "EnvSetupError",
             "ClusterError"} <= users
+
+
+def test_running_out_of_memory_ends_a_command_in_one_line(monkeypatch, capsys):
+    from vlb_gym.cli import verify as verify_command
+
+    def exhausted(args):
+        raise MemoryError
+
+    monkeypatch.setattr(verify_command, "cmd_plan", exhausted)
+    assert main(["plan", "--epsilon", "0.05", "--confidence", "0.99"]) == 2
+    err = capsys.readouterr().err
+    assert err == "vlb plan: error: out of memory (what this command was given needs more " \
+        "memory than it may use here)\n"

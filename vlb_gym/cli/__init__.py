@@ -61,6 +61,10 @@ def _run(args) -> int:
         # what the system or a library says of the same (a missing file, a failed import)
         print(f"vlb {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
         return 2
+    except MemoryError:  # what was asked needs more memory than this process may have
+        print(f"vlb {args.command}: error: out of memory (what this command was given needs "
+              "more memory than it may use here)", file=sys.stderr)
+        return 2
 
 
 def one_line(message: str) -> str:
