@@ -221,10 +221,14 @@ def test_real_campaign_process_matches_serial(serial_campaign):
 # ---------------------------------------------------------------------------------------- ray
 
 
-def test_ray_starts_and_stops_its_own_instance():
+def test_ray_starts_and_stops_its_own_instance(monkeypatch):
     ray = pytest.importorskip("ray")
     if ray.is_initialized():
         pytest.skip("a Ray instance is running in this process")
+    # the actors run in an empty working_dir: this suite's tasks reach them through PYTHONPATH,
+    # as a user's own modules would
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(filter(None, [str(ROOT),
+                                                                  os.environ.get("PYTHONPATH")])))
     assert sorted(run_indices(tasks.squares, range(20), backend="ray", workers=1)) == (
         SQUARES[:20])
     assert not ray.is_initialized()
