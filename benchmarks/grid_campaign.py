@@ -12,13 +12,12 @@ Usage: python benchmarks/grid_campaign.py [--repeats 3] [--workers 1 2]
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import statistics
 import time
 from multiprocessing import get_context
 
 import grid_reference
+from speed_history import machine, record
 
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
 
@@ -50,11 +49,6 @@ def reference_seconds(processes: int) -> tuple[float, int]:
     return time.perf_counter() - started, successes
 
 
-def machine() -> str:
-    return (f"{platform.processor() or platform.machine()}, {os.cpu_count()} cpus, "
-            f"Python {platform.python_version()}, {platform.system()} {platform.release()}")
-
-
 def compare(workers: int, repeats: int) -> dict[str, float]:
     """Medians over interleaved rounds: framework and reference seconds, episodes/s, ratio."""
     ours, theirs, ratios = [], [], []
@@ -83,6 +77,11 @@ def main() -> None:
               f"{', '.join(f'{s:.2f}' for s in r['runs'])} s); hand-coded "
               f"{r['reference']:.2f} s ({r['reference_successes']} successes) -> "
               f"{EPISODES / r['reference']:.0f} episodes/s; {r['ratio']:.2f}x the hand-coded loop")
+        record("grid_campaign", {"seconds": round(r["seconds"], 3),
+                                 "episodes_per_s": round(EPISODES / r["seconds"]),
+                                 "ratio": round(r["ratio"], 2)},
+               {"hand_coded_seconds": round(r["reference"], 3)},
+               {"workers": workers, "episodes": EPISODES, "repeats": args.repeats})
 
 
 if __name__ == "__main__":

@@ -90,7 +90,7 @@ def main() -> None:
     parser.add_argument("--scoop-episodes", type=int, default=59)
     parser.add_argument("--skip", nargs="+", choices=PARTS, default=[])
     args = parser.parse_args()
-    from grid_campaign import machine
+    from speed_history import machine
 
     print(f"machine: {machine()}; medians of {args.repeats} runs\n")
     print("| figure | value |\n|---|---|", flush=True)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import statistics
 import time
 
@@ -18,6 +17,7 @@ import numpy as np
 import vlb_gym  # noqa: F401 - registers the envs
 from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
 from vlb_gym.verify.campaign import CampaignConfig, run_campaign
+from speed_history import machine, record
 
 
 def probe(episodes: int) -> tuple[float, float]:
@@ -48,8 +48,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--probe", type=int, default=5, help="episodes for the per-scoop timing")
     args = parser.parse_args()
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cpus, "
-          f"Python {platform.python_version()}, MUJOCO_GL={os.environ.get('MUJOCO_GL')}")
+    print(f"machine: {machine()}, MUJOCO_GL={os.environ.get('MUJOCO_GL')}")
     wall, ratio = probe(args.probe)
     print(f"one scoop: median {wall:.2f} s wall, simulated/wall {ratio:.2f} (over {args.probe} "
           "episodes)")
@@ -57,6 +56,9 @@ def main() -> None:
         seconds, successes = campaign(args.episodes, workers)
         print(f"workers={workers}: {args.episodes} episodes, {successes} successes, "
               f"{seconds:.0f} s ({seconds / 60:.1f} min)")
+        record("scoop_campaign", {"seconds": round(seconds, 1), "successes": successes,
+                                  "one_scoop_s": round(wall, 2)}, None,
+               {"workers": workers, "episodes": args.episodes})
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ from pathlib import Path
 REPOSITORY = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPOSITORY))
 
+from benchmarks.speed_history import record  # noqa: E402
 from benchmarks.synthesis_tasks import TASKS  # noqa: E402
 from vlb_gym.abstractor.certify import certify  # noqa: E402
 from vlb_gym.abstractor.search import Search  # noqa: E402
@@ -76,6 +77,7 @@ def main(argv: list[str] | None = None) -> None:
              "process, one core", "",
              "| task | grammar s | find s | programs built | distinct behaviors | programs/s "
              "| found | certify s (112 episodes) |", "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    rates = {}
     for task in load(args.tasks):
         if not task.promise:
             continue
@@ -88,6 +90,11 @@ def main(argv: list[str] | None = None) -> None:
                      f"{sum(r['found'] for r in rows)}/{len(rows)} | "
                      f"{'-' if certified is None else f'{certified:.1f}'} |")
         print(lines[-1], flush=True)
+        rates[task.name] = round(med["rate"])
+    record("search_speed", {"median_programs_per_s": statistics.median(rates.values()),
+                            "programs_per_s": rates}, None,
+           {"tasks": str(args.tasks or "development"), "repeats": args.repeats,
+            "time_limit": args.time_limit})
     text = "\n".join(lines) + "\n"
     if args.out:
         args.out.write_text(text)

@@ -36,6 +36,12 @@ def _returns_list(function: Callable[..., Any]) -> bool:
     return str(inspect.signature(function).return_annotation).startswith(("list", "List"))
 
 
+@lru_cache(maxsize=4096)
+def _parameters(function: Callable[..., Any]) -> int:
+    """How many parameters ``function`` has (a method's ``self`` included), read once."""
+    return len(inspect.signature(function).parameters)
+
+
 class EvaluationLimitError(UserError, ValueError):
     """An evaluation exceeded a limit of its :class:`Budget`; the message names the limit."""
 
@@ -118,8 +124,8 @@ class Budget:
                                        f"of {MAX_EPISODE_WORK} work units")
 
     def once(self, fn: Callable[[], Any]) -> Callable[[], Any]:
-        """A behavior function of no arguments, computed at most once per top-level evaluation
-        and then recalled: expressions have no side effects, so nothing in one evaluation can
+        """A function of no arguments, computed at most once per top-level evaluation and then
+        recalled: expressions have no side effects, so nothing in one evaluation can
         change its value. (A recalled value is not charged again: its work is not done again.)"""
         def recalled() -> Any:
             memo = self.memo
@@ -136,9 +142,12 @@ class Budget:
 
     def sized(self, value: Any) -> Any:
         """A list or tuple just built, checked against MAX_SIZE and charged its length."""
-        if len(value) > MAX_SIZE:
+        length = len(value)
+        if length > MAX_SIZE:
             raise EvaluationLimitError(f"a sequence of more than {MAX_SIZE} elements was built")
-        self.charge(len(value))
+        self.work -= length  # charge(), inlined here and below: the hot accounting
+        if self.work < 0:
+            self.charge(0)
         return value
 
     def integer(self, value: Any) -> Any:
@@ -149,9 +158,11 @@ class Budget:
     def call(self, weight: int) -> None:
         """Entry of a behavior function whose body has ``weight`` syntax nodes."""
         self.calls -= 1
+        self.work -= weight
         if self.calls < 0:
             raise EvaluationLimitError(f"evaluation made more than {MAX_CALLS} function calls")
-        self.charge(weight)
+        if self.work < 0:
+            self.charge(0)
 
     def items(self, iterable: Iterable[Any], weight: int = 1) -> list[Any]:
         """A comprehension source as a list of at most MAX_SIZE items, each charged ``weight``
@@ -167,7 +178,9 @@ class Budget:
                 items.append(item)
                 if len(items) > MAX_SIZE:
                     raise EvaluationLimitError(f"comprehension source exceeds {MAX_SIZE} items")
-        self.charge(len(items) * weight)
+        self.work -= len(items) * weight
+        if self.work < 0:
+            self.charge(0)
         return items
 
     def operand(self, value: Any) -> Any:
@@ -297,10 +310,15 @@ class Budget:
     def charging(self, helpers: Mapping[str, Callable[..., Any]]
                  ) -> dict[str, Callable[..., Any]]:
         """``helpers`` with the list-returning ones (by return annotation) charged their
-        result's length; the others return fixed-size values and are passed through."""
+        result's length (the others return fixed-size values), and those of no arguments
+        computed once per top-level evaluation (:meth:`once`: the observation or episode
+        they read stays the same while an expression is evaluated)."""
         out = {}
         for name, fn in helpers.items():
-            out[name] = self._charged(fn) if _returns_list(getattr(fn, "__func__", fn)) else fn
+            function = getattr(fn, "__func__", fn)
+            out[name] = self._charged(fn) if _returns_list(function) else fn
+            if _parameters(function) == (1 if function is not fn else 0):
+                out[name] = self.once(out[name])
         return out
 
     def _charged(self, fn: Callable[..., Any]) -> Callable[..., Any]:

@@ -156,7 +156,9 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
             values = None if given is None else np.asarray(action, np.float64).ravel().tolist()
         elif isinstance(action, np.ndarray):  # the fast path: actions are arrays
             values = action.tolist() if action.shape == space.shape and action.dtype.kind in "iu" \
-                and _within(action.tolist(), self._action_nvec) else None
+                else None
+            if values is not None and not _within(values, self._action_nvec):
+                values = None
         else:
             values = _discrete(action, self._action_nvec)
         if values is None:

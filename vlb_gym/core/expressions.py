@@ -183,6 +183,8 @@ class _Guard(ast.NodeTransformer):
         self.generic_visit(node)
         for gen in node.generators:
             gen.iter = _call("__items", gen.iter, ast.Constant(weight))
+        if len(node.generators) == 1:  # no longer than its source, which items() bounded and
+            return node  # charged at least one unit per item
         return _call("__sized", node)
 
     def visit_GeneratorExp(self, node: ast.GeneratorExp) -> ast.AST:

@@ -7,6 +7,7 @@ so a promise can say what the behavior did, not only what the agent believes.
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -32,17 +33,33 @@ class GridJudge(Judge):
         self._cells = [divmod(k, size) for k in range(size * size)]
         self._adjacent = [[self._cells[m] for m in ms] for ms in _neighbours(size)]
         self._state: GridState | None = None
-        self._steps: list[tuple[str, Cell]] = []
+        self._episode = Episode(None, [], {})
+        self._read: dict[str, list[Any]] = {}  # what bind's episode says, read when first asked
         self._start: Cell = (0, 0)
-        self._goal_known: list[bool] = []
 
     def bind(self, episode: Episode) -> None:
         self._state = episode.state
-        self._steps = [(s["primitive"], tuple(int(v) for v in s["param"])) for s in episode.steps]
+        self._episode = episode
+        self._read = {}
         entry = episode.entry
-        self._goal_known = [bool(entry.get("goal_found", False))] + \
-            [bool(s["goal_found"]) for s in episode.steps]
         self._start = tuple(entry["cell"] if "cell" in entry else entry["start_cell"])
+
+    @property
+    def _steps(self) -> list[tuple[str, Cell]]:
+        """Each step's primitive and parameter cell, in order."""
+        if "steps" not in self._read:
+            self._read["steps"] = [(s["primitive"], tuple(map(int, s["param"])))
+                                   for s in self._episode.steps]
+        return self._read["steps"]
+
+    @property
+    def _goal_known(self) -> list[bool]:
+        """Whether a goal was known before the first step and after each."""
+        if "goal_known" not in self._read:
+            episode = self._episode
+            self._read["goal_known"] = [bool(episode.entry.get("goal_found", False))] + \
+                [bool(s["goal_found"]) for s in episode.steps]
+        return self._read["goal_known"]
 
     @property
     def _truth(self) -> np.ndarray:
