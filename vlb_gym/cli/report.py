@@ -6,8 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from .common import (UsageError, add_env_module, check_not_input, check_output, read_store,
-                     untrusted_options)
+from .common import (UsageError, add_env_module, check_not_input, check_output, count,
+                     read_store, seconds, untrusted_options)
 
 def cmd_report(args: argparse.Namespace) -> int:
     from vlb_gym.verify import comparison
@@ -60,6 +60,28 @@ def cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_monitor(args: argparse.Namespace) -> int:
+    from vlb_gym.reports.monitor import Monitor
+
+    if args.port > 65535:
+        raise UsageError(f"--port {args.port}: a port is at most 65535")
+    try:
+        server = Monitor(args.store, args.port, args.interval)
+    except OSError as exc:
+        raise UsageError(f"--port {args.port}: cannot listen on 127.0.0.1 ({exc.strerror})"
+                         ) from None
+    waiting = "" if Path(args.store).exists() else f" ({args.store} does not exist yet: the " \
+        "page waits for it)"
+    print(f"vlb monitor: {server.url} shows {args.store}{waiting}; Ctrl-C stops it", flush=True)
+    try:
+        server.serve_forever()
+    except KeyboardInterrupt:
+        print("vlb monitor: stopped", file=sys.stderr)
+    finally:
+        server.server_close()
+    return 0
+
+
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     t = sub.add_parser("report", help="rebuild a campaign's report from its --store",
                        description="Print the summary (or, with --json, the JSON report) of the "
@@ -80,3 +102,17 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "the store names, named again to trust it (loading it runs code)")
     add_env_module(t)
     t.set_defaults(func=cmd_report)
+
+    m = sub.add_parser("monitor", help="a live view of a running campaign's --store",
+                       description="Serve a page on 127.0.0.1 that shows a campaign (or "
+                       "comparison) while it runs, read-only from its store: episodes done and "
+                       "per second, the current guarantee or the sequential test's state, "
+                       "failures by cause with replay commands, each node's steps and failed "
+                       "certificates. It refreshes every --interval seconds; Ctrl-C stops it.")
+    m.add_argument("store", metavar="STORE",
+                   help="the SQLite file given to vlb verify (or vlb compare) --store")
+    m.add_argument("--port", type=count(0), default=8765, metavar="PORT",
+                   help="the port on 127.0.0.1 (0: any free port)")
+    m.add_argument("--interval", type=seconds, default=2.0, metavar="SECONDS",
+                   help="how often the page refreshes")
+    m.set_defaults(func=cmd_monitor)

@@ -1,0 +1,215 @@
+"""A live view of a running campaign or comparison: a local page that refreshes from its store.
+
+:func:`snapshot` reads the store read-only (it never writes beside it, and a campaign may be
+writing it: SQLite's readers and its one writer do not block each other) and says where the
+campaign stands: episodes (or pairs) done of planned, the current guarantee or the sequential
+test's state in the words ``vlb verify`` prints, failures by cause with the command that
+replays one, and each node's steps and failed certificates. :class:`Monitor` serves it on
+127.0.0.1: ``/`` is a page that asks for ``/status.json`` every few seconds; nothing else is
+served, and nothing on the page comes from outside this machine.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from typing import Any
+
+from vlb_gym.reports import attribution
+
+RATE_WINDOW = 30.0  # seconds of polls the rate is measured over
+
+
+def snapshot(path: str | Path) -> dict[str, Any]:
+    """Where the campaign or comparison stored at ``path`` stands (``error``: why it cannot be
+    told, e.g. no episode stored yet)."""
+    from vlb_gym.verify import comparison
+    from vlb_gym.verify.campaign import report_from_store
+    from vlb_gym.verify.store import ComparisonStore, StoreError, open_readonly
+
+    try:
+        store = open_readonly(path)
+    except StoreError as exc:
+        return {"error": str(exc)}
+    try:
+        if isinstance(store, ComparisonStore):
+            report: Any = comparison.report_from_store(store)
+            done, planned, unit, nodes = report["pairs"], report["planned_pairs"], "pairs", []
+        else:
+            report = report_from_store(store)
+            plan, episodes = store.plan(), [e.to_dict() for e in store.results()]
+            done, planned, unit = report["episodes"], report["planned_episodes"], "episodes"
+            nodes = _nodes(plan, episodes, str(report.get("behavior", "")))
+    except StoreError as exc:
+        return {"error": str(exc)}
+    finally:
+        store.close()
+    failures = [{"cause": group["cause"], "count": group["count"],
+                 "replay": _replay(report, group)}
+                for group in report.get("failures_by_cause", [])]
+    return {"title": f"{report['env_id']} / {report.get('behavior') or report.get('mode')}",
+            "kind": unit, "done": done, "planned": planned, "complete": report["complete"],
+            "summary": report.summary(), "failures": failures, "nodes": nodes}
+
+
+def _replay(report: Any, group: dict[str, Any]) -> str | None:
+    replay = getattr(report, "replay_command", None)
+    if replay is None or not group.get("episodes"):
+        return None
+    return replay(group["episodes"][0], group["seeds"][0])
+
+
+def _nodes(plan: Any, episodes: list[dict[str, Any]], behavior: str) -> list[dict[str, Any]]:
+    """Each node's steps and failed certificates, as the report's graph counts them."""
+    specs = attribution.plan_behaviors(plan)
+    order = attribution.behavior_order(behavior, specs)
+    if not order:
+        return []
+    rows = []
+    for key, table in attribution.node_stats(specs, episodes, order[0]).items():
+        name = "" if key == order[0] else str(specs[key].get("name", key)) + "/"
+        rows += [{"node": name + node, "runs": stats.runs, "failed": stats.failed}
+                 for node, stats in table.items()]
+    return rows
+
+
+@dataclass
+class Status:
+    """The latest snapshot of one store, taken again only when the store's files changed, and
+    the rate of episodes measured over the last :data:`RATE_WINDOW` seconds of polls."""
+
+    path: Path
+    _lock: threading.Lock = field(default_factory=threading.Lock)
+    _stamp: tuple[Any, ...] | None = None
+    _last: dict[str, Any] = field(default_factory=dict)
+    _polls: deque[tuple[float, int]] = field(default_factory=deque)
+
+    def _files(self) -> tuple[Any, ...]:
+        stamp = []
+        for suffix in ("", "-wal"):
+            try:
+                stat = os.stat(f"{self.path}{suffix}")
+                stamp.append((stat.st_mtime_ns, stat.st_size))
+            except OSError:
+                stamp.append(None)
+        return tuple(stamp)
+
+    def current(self) -> dict[str, Any]:
+        with self._lock:
+            stamp = self._files()
+            if stamp != self._stamp or "error" in self._last:
+                self._last, self._stamp = snapshot(self.path), stamp
+            now, done = time.monotonic(), int(self._last.get("done", 0))
+            self._polls.append((now, done))
+            while self._polls and now - self._polls[0][0] > RATE_WINDOW:
+                self._polls.popleft()
+            first_time, first_done = self._polls[0]
+            rate = (done - first_done) / (now - first_time) if now > first_time else 0.0
+            return {**self._last, "per_second": round(rate, 2),
+                    "updated": time.strftime("%H:%M:%S")}
+
+
+PAGE = """<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>vlb monitor</title>
+<style>
+body{font-family:system-ui,sans-serif;margin:2em;max-width:70em;color:#222}
+pre{background:#f6f6f6;padding:1em;white-space:pre-wrap}
+table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:.3em .6em}
+td.n{text-align:right}progress{width:30em;height:1.2em}.muted{color:#777}
+</style></head><body>
+<h1 id="title">vlb monitor</h1>
+<p><progress id="bar" value="0" max="1"></progress> <span id="count"></span>
+<span id="rate"></span> <span id="state" class="muted"></span></p>
+<pre id="summary">waiting for the store...</pre>
+<h2>Failures by cause</h2><table id="failures"><thead><tr><th>cause</th><th>count</th>
+<th>replay one</th></tr></thead><tbody></tbody></table>
+<h2>Nodes</h2><table id="nodes"><thead><tr><th>node</th><th>steps</th><th>failed</th>
+<th>failed share</th></tr></thead><tbody></tbody></table>
+<p class="muted">Refreshes every INTERVAL s from STORE (read-only).</p>
+<script>
+function fill(id, rows) {
+  const body = document.querySelector('#' + id + ' tbody');
+  body.replaceChildren(...rows.map(cells => {
+    const tr = document.createElement('tr');
+    cells.forEach(([text, numeric]) => {
+      const td = document.createElement('td');
+      td.textContent = text; if (numeric) td.className = 'n'; tr.appendChild(td);
+    });
+    return tr;
+  }));
+}
+async function refresh() {
+  try {
+    const s = await (await fetch('status.json', {cache: 'no-store'})).json();
+    if (s.error) { document.getElementById('summary').textContent = s.error; return; }
+    document.getElementById('title').textContent = s.title;
+    const bar = document.getElementById('bar');
+    bar.max = s.planned; bar.value = s.done;
+    document.getElementById('count').textContent = s.done + ' of ' + s.planned + ' ' + s.kind;
+    document.getElementById('rate').textContent = ', ' + s.per_second + ' ' + s.kind + '/s';
+    document.getElementById('state').textContent =
+      (s.complete ? ' finished' : ' running') + ' (as of ' + s.updated + ')';
+    document.getElementById('summary').textContent = s.summary;
+    fill('failures', s.failures.map(f => [[f.cause], [String(f.count), 1], [f.replay || '-']]));
+    fill('nodes', s.nodes.map(n => [[n.node], [String(n.runs), 1], [String(n.failed), 1],
+      [n.runs ? (100 * n.failed / n.runs).toFixed(2) + '%' : '-', 1]]));
+  } catch (e) {
+    document.getElementById('state').textContent = ' (monitor unreachable: ' + e + ')';
+  }
+}
+refresh(); setInterval(refresh, INTERVAL * 1000);
+</script></body></html>
+"""
+
+
+class Monitor(ThreadingHTTPServer):
+    """The live view of the store at ``path`` on ``127.0.0.1:port`` (0: any free port)."""
+
+    daemon_threads = True
+
+    def __init__(self, path: str | Path, port: int = 0, interval: float = 2.0):
+        self.status = Status(Path(path))
+        self.page = (PAGE.replace("INTERVAL", f"{interval:g}")
+                     .replace("STORE", _html(str(path)))).encode()
+        super().__init__(("127.0.0.1", port), _Handler)
+
+    @property
+    def url(self) -> str:
+        return f"http://127.0.0.1:{self.server_address[1]}/"
+
+
+def _html(text: str) -> str:
+    return (text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+            .replace('"', "&quot;"))
+
+
+class _Handler(BaseHTTPRequestHandler):
+    server: Monitor
+
+    def do_GET(self) -> None:  # noqa: N802 - the http.server interface
+        route = self.path.split("?")[0]
+        if route == "/":
+            self._send(self.server.page, "text/html; charset=utf-8")
+        elif route == "/status.json":
+            body = json.dumps(self.server.status.current(), allow_nan=False).encode()
+            self._send(body, "application/json")
+        else:
+            self.send_error(HTTPStatus.NOT_FOUND)
+
+    def _send(self, body: bytes, kind: str) -> None:
+        self.send_response(HTTPStatus.OK)
+        self.send_header("Content-Type", kind)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Cache-Control", "no-store")
+        self.end_headers()
+        self.wfile.write(body)
+
+    def log_message(self, format: str, *args: Any) -> None:  # noqa: A002 - quiet by design
+        """Requests are not logged to the terminal."""
