@@ -25,6 +25,7 @@ from typing import Any
 from vlb_gym.reports import attribution
 
 RATE_WINDOW = 30.0  # seconds of polls the rate is measured over
+SPARE = 5.0  # after a snapshot that took t seconds, the next one waits SPARE * t
 
 
 def snapshot(path: str | Path) -> dict[str, Any]:
@@ -82,14 +83,16 @@ def _nodes(plan: Any, episodes: list[dict[str, Any]], behavior: str) -> list[dic
 
 @dataclass
 class Status:
-    """The latest snapshot of one store, taken again only when the store's files changed, and
-    the rate of episodes measured over the last :data:`RATE_WINDOW` seconds of polls."""
+    """The latest snapshot of one store, taken again only when the store's files changed (and
+    not sooner than :data:`SPARE` times the last one took), and the rate of episodes measured
+    over the last :data:`RATE_WINDOW` seconds of polls."""
 
     path: Path
     _lock: threading.Lock = field(default_factory=threading.Lock)
     _stamp: tuple[Any, ...] | None = None
     _last: dict[str, Any] = field(default_factory=dict)
     _polls: deque[tuple[float, int]] = field(default_factory=deque)
+    _next: float = 0.0  # no new snapshot before this time (time.monotonic)
 
     def _files(self) -> tuple[Any, ...]:
         stamp = []
@@ -103,9 +106,12 @@ class Status:
 
     def current(self) -> dict[str, Any]:
         with self._lock:
-            stamp = self._files()
-            if stamp != self._stamp or "error" in self._last:
+            stamp, now = self._files(), time.monotonic()
+            if (stamp != self._stamp or "error" in self._last) and now >= self._next:
                 self._last, self._stamp = snapshot(self.path), stamp
+                # a snapshot reads the whole store: at most a sixth of one core goes to it,
+                # however large the store grows, the rest to the campaign
+                self._next = now + SPARE * (time.monotonic() - now)
             now, done = time.monotonic(), int(self._last.get("done", 0))
             self._polls.append((now, done))
             while self._polls and now - self._polls[0][0] > RATE_WINDOW:
