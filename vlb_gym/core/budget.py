@@ -86,6 +86,7 @@ class Budget:
     def __init__(self) -> None:
         self.step = self.episode = 0  # work of the step and of the episode so far
         self.work = MAX_WORK
+        self.memo: dict[Callable[[], Any], Any] = {}
         self.reset()
 
     def new_episode(self) -> None:
@@ -106,13 +107,15 @@ class Budget:
         """A top-level evaluation begins: the last one's work goes on the step's and the
         episode's accounts, which raise once they are spent (at most one evaluation's work
         beyond them, as each evaluation is bounded by its own budget)."""
-        self._settle()
-        self.work = MAX_WORK
+        if self.work != MAX_WORK:  # the last evaluation did work (else nothing to settle)
+            self._settle()
         self.calls = MAX_CALLS
-        self.memo: dict[Callable[[], Any], Any] = {}
+        if self.memo:
+            self.memo = {}
 
     def _settle(self) -> None:
-        used = MAX_WORK - max(self.work, -1)
+        work = self.work
+        used = MAX_WORK - (work if work > -1 else -1)
         self.work = MAX_WORK
         self.step += used
         self.episode += used

@@ -68,7 +68,9 @@ class RobustnessWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
             self.first_failure = (f"step {len(self.certificates)}: {info['primitive']} "
                                   f"{info['param']}: {info.get('reason', 'certificate failed')}")
             self.first_cause = certificate_cause(info)
-        return obs, reward, terminated, truncated, {**info, **self.ended_by(terminated, truncated)}
+        if terminated or truncated:
+            info = {**info, **self.ended_by(terminated, truncated)}
+        return obs, reward, terminated, truncated, info
 
     def ended_by(self, terminated: bool, truncated: bool) -> dict[str, Any]:
         """The episode's summary if the env ended it (here or in a wrapper outside this one):
