@@ -19,6 +19,7 @@ from .compiler import CompiledBehavior, compile_behavior
 from .env import PrimitiveEnv
 from .runtime import BehaviorPolicy
 from .files import InputFileError, is_input_file, read_limited, write_atomic
+from .formats import CURRENT
 from .names import is_name
 from .spec import BehaviorSpec, BehaviorSpecError, parse_spec
 
@@ -127,11 +128,13 @@ class BehaviorLibrary:
         return specs, broken
 
 
-def spec_json(spec: BehaviorSpec, certificate: bool = True) -> str:
-    """A behavior document as pretty JSON (aliases, no defaults; without its certificate if
-    ``certificate`` is False)."""
+def spec_json(spec: BehaviorSpec, content_only: bool = False) -> str:
+    """A behavior file as pretty JSON (aliases, no defaults), in the current format; with
+    ``content_only``, the behavior alone (no certificate, no format: what its digest covers)."""
     data = spec.model_dump(by_alias=True, exclude_defaults=True,
-                           exclude=None if certificate else {"certificate"})
+                           exclude={"certificate", "format"} if content_only else {"format"})
+    if not content_only:
+        data = {"format": CURRENT["behavior"], **data}
     return json.dumps(data, indent=2) + "\n"
 
 
@@ -216,10 +219,10 @@ class BehaviorLoader:
         tree = behavior_tree(policy.behavior)
         digest = hashlib.sha256()
         for behavior in tree:
-            digest.update(spec_json(behavior.spec, certificate=False).encode())
+            digest.update(spec_json(behavior.spec, content_only=True).encode())
         return {"sha256": digest.hexdigest(),
                 "behaviors": {b.source: b.spec.model_dump(by_alias=True, exclude_defaults=True,
-                                                          exclude={"certificate"})
+                                                          exclude={"certificate", "format"})
                               for b in tree}}
 
     def trained_env(self, ref) -> None:

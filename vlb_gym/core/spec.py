@@ -35,6 +35,7 @@ from pydantic import (AfterValidator, BaseModel, ConfigDict, Field, StringConstr
 
 from .errors import UserError
 from .files import InputFileError, load_json
+from .formats import FormatError, check_format
 from .names import IDENTIFIER_PATTERN, MAX_NAME_LENGTH
 
 Identifier = Annotated[str, StringConstraints(pattern=IDENTIFIER_PATTERN,
@@ -172,6 +173,8 @@ class BehaviorSpec(_Model):
     terminals: list[Identifier] = Field(min_length=1)
     promise: Promise | None = None
     certificate: Certificate | None = None
+    format: int | None = Field(None, ge=1, description="the file's format version (written by "
+                               "vlb-gym; none: 1, the files written before versions)")
 
 
 def _place(loc: tuple[Any, ...]) -> str:
@@ -196,7 +199,12 @@ def parse_spec(text: str | bytes, source: str = "<behavior>") -> BehaviorSpec:
 
 
 def spec_from_data(data: Any, source: str = "<behavior>") -> BehaviorSpec:
-    """Schema-check an already decoded behavior document."""
+    """Schema-check an already decoded behavior document (of a format this package reads)."""
+    if isinstance(data, dict) and "format" in data:
+        try:
+            check_format("behavior", data["format"], f"{source}: format")
+        except FormatError as exc:
+            raise BehaviorSpecError(str(exc), "schema") from None
     return validated(BehaviorSpec, data, source)
 
 

@@ -21,6 +21,8 @@ from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Any
 
+from vlb_gym.core.formats import CURRENT
+
 from .campaign import (Campaign, CampaignConfig, Remaining, _in_process, episode_runner,
                        feed_until_decided, lightened, open_store, preload, run_where,
                        stored_prefix)
@@ -235,7 +237,7 @@ class ComparisonReport(JsonReport):
         counts = method.counts
         n = counts.n
         data = {
-            "env_id": plan.env_id, "mode": method.name, "pairs": n,
+            "format": CURRENT["report"], "env_id": plan.env_id, "mode": method.name, "pairs": n,
             "planned_pairs": plan.pairs, "seed": plan.seed, "margin": plan.margin,
             "alpha": plan.alpha, "claim": claim_words(plan.margin),
             "a": _side_summary(plan.a, [r.a for r in results]),

@@ -1,9 +1,11 @@
 """The JSONL export of a campaign (``vlb verify --episodes-out``).
 
-Line 1 is the plan (``{"record": "plan", "plan": {...}}``), then one ``{"record": "episode",
-...}`` line per episode as it finishes (the fields of :class:`~.episode.EpisodeResult`), then a
-closing ``{"record": "end", "complete": ..., "episodes": ...}`` line. A file without the closing
-line is a campaign that was killed; ``complete: false`` one that was interrupted.
+Line 1 is the plan (``{"record": "plan", "format": 1, "plan": {...}}``; the format is
+:data:`~vlb_gym.core.formats.CURRENT`'s, absent from files written before versions), then one
+``{"record": "episode", ...}`` line per episode as it finishes (the fields of
+:class:`~.episode.EpisodeResult`), then a closing ``{"record": "end", "complete": ...,
+"episodes": ...}`` line. A file without the closing line is a campaign that was killed;
+``complete: false`` one that was interrupted.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from vlb_gym.core.files import OutputFileError
+from vlb_gym.core.formats import CURRENT, check_format
 
 from .records import EpisodeResult, Plan, plan_from_json
 
@@ -26,7 +29,7 @@ class EpisodesExport:
         self.path = path
         self.written = 0
         self._file = open(path, "w" if overwrite else "x")
-        self._line({"record": "plan", "plan": plan.to_dict()})
+        self._line({"record": "plan", "format": CURRENT["export"], "plan": plan.to_dict()})
 
     def _line(self, data: dict[str, Any]) -> None:
         try:
@@ -61,6 +64,7 @@ def read_export(path: Path) -> tuple[Plan, list[EpisodeResult], dict[str, Any] |
         data = json.loads(line)
         kind = data.pop("record")
         if kind == "plan":
+            check_format("export", data.get("format"), f"{path}: line 1")
             plan = plan_from_json(json.dumps(data["plan"]))
         elif kind == "episode":
             episodes.append(EpisodeResult.from_dict(data))

@@ -14,6 +14,8 @@ import shlex
 from collections.abc import Iterator, Mapping, Sequence
 from typing import Any
 
+from vlb_gym.core.formats import CURRENT
+
 from .methods import method_named
 from .records import EpisodeResult, Plan
 
@@ -119,6 +121,7 @@ class Report(JsonReport):
         n, failures = len(results), method.failures
         recorded = plan.to_dict()
         data = {
+            "format": CURRENT["report"],
             "env_id": plan.env_id,
             "behavior": plan.policy.ref,
             "policy": recorded["policy"],

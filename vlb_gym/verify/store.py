@@ -22,6 +22,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from vlb_gym.core.errors import UserError
+from vlb_gym.core.formats import CURRENT, FormatError, check_format
 
 from .records import (ComparisonPlan, EpisodeResult, PairResult, Plan,
                       comparison_plan_from_json, episode_from_json, first_error,
@@ -96,6 +97,7 @@ class CampaignStore:
         self.db.execute("PRAGMA wal_autocheckpoint=8192")
         if fresh:
             self.db.execute(f"PRAGMA application_id={self.application_id}")
+            self.db.execute(f"PRAGMA user_version={CURRENT['store']}")  # the format
             self.db.execute("CREATE TABLE IF NOT EXISTS plan "
                             "(id INTEGER PRIMARY KEY CHECK (id = 1), plan TEXT NOT NULL)")
             self.db.execute("CREATE TABLE IF NOT EXISTS episodes (idx INTEGER PRIMARY KEY, "
@@ -106,6 +108,7 @@ class CampaignStore:
         try:
             with contextlib.closing(_connect_readonly(self.path)) as probe:
                 (app,) = probe.execute("PRAGMA application_id").fetchone()
+                (version,) = probe.execute("PRAGMA user_version").fetchone()
                 columns = {table: [(row[1], row[5]) for row in probe.execute(
                     f"PRAGMA table_info({table})")] for table in ("plan", "episodes")}
                 (check,) = probe.execute("PRAGMA quick_check(1)").fetchone() \
@@ -118,6 +121,10 @@ class CampaignStore:
                              + (f" (it is a {other})" if other and columns == _COLUMNS else ""))
         if check != "ok":
             raise StoreError(f"{self.path}: the campaign store is damaged ({check})")
+        try:  # 0: a store written before formats were versioned, format 1
+            check_format("store", version or None, str(self.path))
+        except FormatError as exc:
+            raise StoreError(str(exc)) from None
 
     def _exclusive(self) -> int:
         """An exclusive lock on the store for this process (released when it ends, however):
