@@ -169,3 +169,25 @@ def test_a_comparison_store_is_shown_in_pairs(tmp_path, serving):
     assert (state["kind"], state["done"], state["planned"], state["complete"]) == (
         "pairs", 20, 20, True)
     assert state["summary"] == vlb("report", str(store), cwd=tmp_path).stdout.strip()
+
+
+def test_a_request_for_another_host_name_reads_nothing(tmp_path, serving):
+    server = serving(tmp_path / "s.db")
+    port = server.server_address[1]
+    for host, code in ((f"127.0.0.1:{port}", 200), (f"localhost:{port}", 200),
+                       (f"evil.example:{port}", 421), ("127.0.0.1", 421)):
+        request = urllib.request.Request(server.url + "status.json", headers={"Host": host})
+        try:
+            with urllib.request.urlopen(request, timeout=30) as answer:
+                got = answer.status
+        except urllib.error.HTTPError as error:
+            got = error.code
+        assert got == code, host
+
+
+@pytest.mark.parametrize("interval", [0.01, 1e7])
+def test_an_interval_out_of_bounds_is_refused(tmp_path, interval):
+    with pytest.raises(ValueError, match="refreshes every 0.1 to 86400 seconds"):
+        Monitor(tmp_path / "s.db", 0, interval)
+    done = vlb("monitor", str(tmp_path / "s.db"), "--interval", str(interval), cwd=tmp_path)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr

@@ -108,7 +108,8 @@ class PromptContext:
             if spec.env in (None, env_id):
                 behaviors.append({"name": name, "description": spec.description,
                                   "document": spec.model_dump(by_alias=True,
-                                                              exclude_defaults=True)})
+                                                              exclude_defaults=True,
+                                                              exclude={"format"})})
         helpers = interface.make_helpers()
         notes = " ".join((inspect.getdoc(type(helpers)) or "").split("\n\n", 1)[-1].split())
         return cls(env_id, primitives, helpers.describe(), notes, behaviors, tuple(uses), skipped)

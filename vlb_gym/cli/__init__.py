@@ -16,7 +16,7 @@ from collections.abc import Iterator
 
 import vlb_gym
 from vlb_gym.core.errors import UserError
-from vlb_gym.core.text import bounded
+from vlb_gym.core.text import single_line
 
 from . import baselines, compare, language, library, replay, report, verify
 from .common import Parser
@@ -59,20 +59,12 @@ def _run(args) -> int:
         # UserError: every error of vlb-gym about what the user gave it (a bad argument, an
         # invalid behavior, an unusable file, a store that does not match, ...); the others:
         # what the system or a library says of the same (a missing file, a failed import)
-        print(f"vlb {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
+        print(f"vlb {args.command}: error: {single_line(str(exc))}", file=sys.stderr)
         return 2
     except MemoryError:  # what was asked needs more memory than this process may have
         print(f"vlb {args.command}: error: out of memory (what this command was given needs "
               "more memory than it may use here)", file=sys.stderr)
         return 2
-
-
-def one_line(message: str) -> str:
-    """An error message on one line: several problems (a behavior file's) joined with "; ",
-    a line break inside one (a file name's) escaped, a long echoed value shortened
-    (:func:`~vlb_gym.core.text.bounded`)."""
-    lines = [line.strip() for line in message.replace("\r", "\\r").split("\n")]
-    return bounded("; ".join(line for line in lines if line))
 
 
 @contextlib.contextmanager

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 
 
 def cmd_behaviors(args: argparse.Namespace) -> int:
-    from vlb_gym.core.library import BehaviorLibrary, compile_spec, shipped_behaviors
+    from vlb_gym.core.library import BehaviorLibrary, compile_spec, shipped_behaviors, spec_json
 
     library = BehaviorLibrary()
     if args.name is None:
@@ -39,7 +39,7 @@ def cmd_behaviors(args: argparse.Namespace) -> int:
     finally:
         env.close()
     if args.json:
-        print(compiled.spec.model_dump_json(by_alias=True, indent=2, exclude_defaults=True))
+        print(spec_json(compiled.spec), end="")  # as a behavior file is written
         return 0
     print(graph_text(compiled))
     return 0

@@ -32,3 +32,11 @@ def bounded(message: str) -> str:
     words = [shorten(w, 60) if len(w) > LONG_WORD else w for w in message.split(" ")]
     message = " ".join(words)
     return message if len(message) <= _LONG else shorten(message, _LONG // 2)
+
+
+def single_line(message: str) -> str:
+    """An error message on one line: several problems (a behavior file's) joined with "; ",
+    a line break inside one (a file name's) escaped, a long echoed value shortened
+    (:func:`bounded`)."""
+    lines = [line.strip() for line in message.replace("\r", "\\r").split("\n")]
+    return bounded("; ".join(line for line in lines if line))

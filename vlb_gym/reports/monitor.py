@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import json
 import os
+import sqlite3
+import sys
 import threading
 import time
 from collections import deque
@@ -22,36 +24,38 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any
 
+from vlb_gym.core.errors import UserError
+from vlb_gym.core.text import single_line
 from vlb_gym.reports import attribution
 
 RATE_WINDOW = 30.0  # seconds of polls the rate is measured over
+MIN_INTERVAL, MAX_INTERVAL = 0.1, 86_400.0  # seconds between the page's refreshes
 SPARE = 5.0  # after a snapshot that took t seconds, the next one waits SPARE * t
 
 
 def snapshot(path: str | Path) -> dict[str, Any]:
     """Where the campaign or comparison stored at ``path`` stands (``error``: why it cannot be
-    told, e.g. no episode stored yet)."""
+    told, e.g. no episode stored yet, or the file is gone or unreadable)."""
     from vlb_gym.verify import comparison
-    from vlb_gym.verify.campaign import report_from_store
-    from vlb_gym.verify.store import ComparisonStore, StoreError, open_readonly
+    from vlb_gym.verify.campaign import report_and_records
+    from vlb_gym.verify.store import ComparisonStore, open_readonly
 
     try:
         store = open_readonly(path)
-    except StoreError as exc:
-        return {"error": str(exc)}
-    try:
-        if isinstance(store, ComparisonStore):
-            report: Any = comparison.report_from_store(store)
-            done, planned, unit, nodes = report["pairs"], report["planned_pairs"], "pairs", []
-        else:
-            report = report_from_store(store)
-            plan, episodes = store.plan(), [e.to_dict() for e in store.results()]
-            done, planned, unit = report["episodes"], report["planned_episodes"], "episodes"
-            nodes = _nodes(plan, episodes, str(report.get("behavior", "")))
-    except StoreError as exc:
-        return {"error": str(exc)}
-    finally:
-        store.close()
+        try:
+            if isinstance(store, ComparisonStore):
+                report: Any = comparison.report_from_store(store)
+                done, planned, unit, nodes = (report["pairs"], report["planned_pairs"], "pairs",
+                                              [])
+            else:
+                report, plan, records = report_and_records(store)
+                done, planned, unit = report["episodes"], report["planned_episodes"], "episodes"
+                nodes = _nodes(plan, [r.to_dict() for r in records],
+                               str(report.get("behavior", "")))
+        finally:
+            store.close()
+    except (UserError, OSError, sqlite3.DatabaseError, ValueError) as exc:
+        return {"error": single_line(str(exc)) or type(exc).__name__}
     failures = [{"cause": group["cause"], "count": group["count"],
                  "replay": _replay(report, group)}
                 for group in report.get("failures_by_cause", [])]
@@ -111,7 +115,8 @@ class Status:
                 self._last, self._stamp = snapshot(self.path), stamp
                 # a snapshot reads the whole store: at most a sixth of one core goes to it,
                 # however large the store grows, the rest to the campaign
-                self._next = now + SPARE * (time.monotonic() - now)
+                ended = time.monotonic()
+                self._next = ended + SPARE * (ended - now)
             now, done = time.monotonic(), int(self._last.get("done", 0))
             self._polls.append((now, done))
             while self._polls and now - self._polls[0][0] > RATE_WINDOW:
@@ -181,6 +186,9 @@ class Monitor(ThreadingHTTPServer):
     daemon_threads = True
 
     def __init__(self, path: str | Path, port: int = 0, interval: float = 2.0):
+        if not MIN_INTERVAL <= interval <= MAX_INTERVAL:
+            raise ValueError(f"--interval {interval:g}: the page refreshes every "
+                             f"{MIN_INTERVAL:g} to {MAX_INTERVAL:g} seconds")
         self.status = Status(Path(path))
         self.page = (PAGE.replace("INTERVAL", f"{interval:g}")
                      .replace("STORE", _html(str(path)))).encode()
@@ -189,6 +197,13 @@ class Monitor(ThreadingHTTPServer):
     @property
     def url(self) -> str:
         return f"http://127.0.0.1:{self.server_address[1]}/"
+
+    def handle_error(self, request: Any, client_address: Any) -> None:
+        """A browser that went away mid-answer is not an error; anything else is one line."""
+        error = sys.exc_info()[1]
+        if not isinstance(error, ConnectionError):
+            print(f"vlb monitor: a request failed: {type(error).__name__}: {error}",
+                  file=sys.stderr)
 
 
 def _html(text: str) -> str:
@@ -200,6 +215,11 @@ class _Handler(BaseHTTPRequestHandler):
     server: Monitor
 
     def do_GET(self) -> None:  # noqa: N802 - the http.server interface
+        port = self.server.server_address[1]
+        if self.headers.get("Host") not in (f"127.0.0.1:{port}", f"localhost:{port}"):
+            # a page elsewhere whose name was made to point here (DNS rebinding) reads nothing
+            self.send_error(HTTPStatus.MISDIRECTED_REQUEST)
+            return
         route = self.path.split("?")[0]
         if route == "/":
             self._send(self.server.page, "text/html; charset=utf-8")

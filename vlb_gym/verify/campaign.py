@@ -323,11 +323,17 @@ def report_from_store(store: CampaignStore) -> Report:
     """The report of the campaign in ``store``, rebuilt from the store alone (complete or not:
     ``episodes`` is the number stored). The store does not record how the campaign ran
     (workers, backend): those are None, and the time is the sum of the episodes' own seconds."""
+    return report_and_records(store)[0]
+
+
+def report_and_records(store: CampaignStore) -> tuple[Report, Plan, list[EpisodeResult]]:
+    """:func:`report_from_store`, with the plan and the records it was built from (read once:
+    a campaign may be adding records meanwhile)."""
     plan = store.plan()
     if plan is None:
         raise StoreError(f"{store.path}: the store holds no campaign yet")
     results = stored_prefix(store, method_named(plan.method))
     if not results:
         raise StoreError(f"{store.path}: no episode is stored yet")
-    return Report.build(plan, results, sum(r.seconds for r in results), None, None,
-                        str(store.path))
+    return (Report.build(plan, results, sum(r.seconds for r in results), None, None,
+                         str(store.path)), plan, results)

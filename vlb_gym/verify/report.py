@@ -100,7 +100,7 @@ class JsonReport(Mapping[str, Any]):
 
 
 class Report(JsonReport):
-    """A campaign's report: its JSON keys (those of ARCHITECTURE.md and more), with
+    """A campaign's report: its JSON keys (those docs/verify.md lists), with
     :meth:`summary` in words and :meth:`replay_command` for any episode (naming the store,
     if it has one).
     """

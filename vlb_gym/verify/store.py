@@ -115,16 +115,17 @@ class CampaignStore:
                     if app == self.application_id else ("ok",)
         except sqlite3.DatabaseError as exc:
             raise StoreError(f"{self.path}: not a vlb-gym {self.what} ({exc})") from None
+        if app == self.application_id:  # a later format may have other tables: said first
+            try:  # 0: a store written before formats were versioned, format 1
+                check_format("store", version or None, str(self.path))
+            except FormatError as exc:
+                raise StoreError(str(exc)) from None
         if app != self.application_id or columns != _COLUMNS:
             other = next((kind.what for kind in _KINDS if kind.application_id == app), None)
             raise StoreError(f"{self.path}: not a vlb-gym {self.what}"
                              + (f" (it is a {other})" if other and columns == _COLUMNS else ""))
         if check != "ok":
             raise StoreError(f"{self.path}: the campaign store is damaged ({check})")
-        try:  # 0: a store written before formats were versioned, format 1
-            check_format("store", version or None, str(self.path))
-        except FormatError as exc:
-            raise StoreError(str(exc)) from None
 
     def _exclusive(self) -> int:
         """An exclusive lock on the store for this process (released when it ends, however):
