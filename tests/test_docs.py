@@ -4,6 +4,7 @@ navigation; the README stays an entry point, not the manual."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -28,6 +29,12 @@ def test_the_site_builds_strictly_with_its_api_reference(tmp_path):
     assert done.returncode == 0, done.stderr
     reference = (tmp_path / "site" / "reference" / "index.html").read_text()
     assert "FixedN" in reference and "PrimitiveEnv" in reference
+    # nothing the pages load comes from another host: the site works offline (links may leave)
+    loads = re.compile(r"<(?:link|script|img|iframe|source)\b[^>]*\b(?:href|src)=\"(?:https?:)?//"
+                       r"|url\(\s*['\"]?(?:https?:)?//|@import\s+['\"]?(?:url\()?['\"]?(?:https?:)?//")
+    outside = [str(page.relative_to(tmp_path)) for page in (tmp_path / "site").rglob("*")
+               if page.suffix in (".html", ".css", ".js") and loads.search(page.read_text())]
+    assert outside == []
 
 
 def test_a_broken_link_fails_the_build(tmp_path):
