@@ -183,6 +183,12 @@ def test_report_folder_from_a_store(stored, tmp_path, capsys):
     markdown = (out / "report.md").read_text()
     assert f"vlb replay {store} --episode" in markdown
     assert "failed episode" in markdown and "successful episode" in markdown  # frames
+    # the grid's frames come with a legend of its colours and the cells' indices on the edges
+    assert (out / "figures" / "frames-legend.png").is_file()
+    assert "What the colours show" in markdown and "goal, sensed" in markdown
+    assert "(the last: where it ended)" in markdown
+    frame = plt_image(out / "figures" / "frames-0-0.png")
+    assert frame.shape[0] == frame.shape[1] == 260  # drawn with its axes, not a bare thumbnail
     report = json.loads((out / "report.json").read_text())
     capsys.readouterr()
     assert main(["report", str(store), "--json"]) == 0
@@ -228,3 +234,10 @@ def test_a_reset_info_that_cannot_be_recorded_fails_the_episode_not_the_campaign
 
     result = _episode({"x": np.array(2.0)})  # a 0-d array: no JSON list
     assert result.rho == -1 and result.reason.startswith("TypeError") and result.error
+
+
+def plt_image(path):
+    """A PNG file as an array (matplotlib's reader)."""
+    from matplotlib.image import imread
+
+    return imread(path)

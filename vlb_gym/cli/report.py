@@ -43,17 +43,17 @@ def cmd_report(args: argparse.Namespace) -> int:
         if out.exists() and not out.is_dir():
             raise UsageError(f"--out {args.out}: not a directory")
         check_output(str(out / "report.html"), store_files(args.store), True, "--out")
-        frames = None
+        frames = key = None
         untrusted = untrusted_options(args.store, plan, args)
         if args.frames and untrusted:
             print(f"vlb report: no frames: replaying would run code the store names (name it "
                   f"again to trust it: {' '.join(untrusted)})", file=sys.stderr)
         elif args.frames:
-            frames, why_not = episode_frames(plan, episodes)
+            frames, key, why_not = episode_frames(plan, episodes)
             if why_not:
                 print(f"vlb report: no frames: {why_not}", file=sys.stderr)
         written = write_report_dir(out, report, [e.to_dict() for e in episodes], plan, frames,
-                                   args.store)
+                                   args.store, key)
         print(f"wrote {', '.join(str(p) for p in written if p.parent == out)}")
         return 0
     print(report.to_json() if args.json else report.summary(), end="\n" * (not args.json))

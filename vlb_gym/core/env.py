@@ -18,6 +18,7 @@ from __future__ import annotations
 import abc
 import copy
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
 import gymnasium as gym
@@ -30,6 +31,16 @@ from .search_space import SearchSpace
 
 State = TypeVar("State")
 FrameCallback = Callable[[np.ndarray], None]
+
+
+@dataclass(frozen=True)
+class FrameKey:
+    """How to read an env's frames: what each colour shows, and for a square grid of cells
+    drawn edge to edge, its cells per side (``i`` left to right, ``j`` bottom to top), which a
+    report labels along the frame's edges."""
+
+    colours: tuple[tuple[str, tuple[int, int, int]], ...]
+    cells: int | None = None
 
 
 class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
@@ -216,6 +227,10 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         """None when ``param`` is admissible for ``primitive`` now, else why not (judged with
         the true state, as admissibility is)."""
         return self.primitives[primitive].inadmissible_reason(self.state, param)
+
+    def frame_key(self) -> FrameKey | None:
+        """What this env's frames show (None, the default: no key)."""
+        return None
 
     def film(self, callback: FrameCallback | None) -> None:
         """Call ``callback`` with every frame the env shows (after reset and after each

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from vlb_gym.core.env import FrameKey
 from vlb_gym.verify import bounds
 from vlb_gym.verify.methods import method_named
 from vlb_gym.verify.records import Plan
@@ -324,19 +325,34 @@ def chart_blocks(report: dict[str, Any], episodes: list[dict[str, Any]]) -> list
     return blocks
 
 
-def frame_blocks(frames: dict[str, list[np.ndarray]] | None) -> list[Block]:
-    """Section 7: a few frames of the episodes given."""
+def frame_blocks(frames: dict[str, list[np.ndarray]] | None, key: FrameKey | None = None
+                 ) -> list[Block]:
+    """Section 7: a few frames of the episodes given, the last of each always (where a failed
+    episode failed); with the env's ``key``, a legend of its colours and, on a grid, the cells'
+    indices along each frame's edges."""
     if not frames:
         return []
     blocks: list[Block] = [Heading(2, "Frames")]
+    if key is not None and key.colours:
+        blocks.append(Gallery("What the colours show", [Figure(
+            "frames-legend.png", plots.legend_png(key.colours),
+            "; ".join(label for label, _ in key.colours), "legend")]))
     for g, (label, images) in enumerate(frames.items()):
         chosen = pick(len(images), MAX_FRAMES)
-        figures = [Figure(f"frames-{g}-{j}.png", encode_png(thumbnail(images[j])),
-                          f"{label}, frame {j + 1} of {len(images)}", f"frame {j + 1}")
+        figures = [Figure(f"frames-{g}-{j}.png", _frame_png(images[j], key),
+                          f"{label}, frame {j + 1} of {len(images)}"
+                          + (" (the last: where it ended)" if j == len(images) - 1 else ""),
+                          f"frame {j + 1}")
                    for j in chosen]
         blocks.append(Gallery(str(label), figures) if figures else
                       Paragraph([f"{label}: no frames."]))
     return blocks
+
+
+def _frame_png(image: np.ndarray, key: FrameKey | None) -> bytes:
+    if key is not None and key.cells:
+        return plots.frame_png(image, key.cells)
+    return encode_png(thumbnail(image))
 
 
 def provenance_blocks(report: dict[str, Any], plan: Plan) -> list[Block]:
@@ -366,13 +382,13 @@ def provenance_blocks(report: dict[str, Any], plan: Plan) -> list[Block]:
 
 def build_document(report: dict[str, Any], episodes: list[dict[str, Any]], plan: Plan,
                    frames: dict[str, list[np.ndarray]] | None = None,
-                   store_path: str | None = None) -> Document:
-    """The whole report."""
+                   store_path: str | None = None, key: FrameKey | None = None) -> Document:
+    """The whole report (``key``: how to read the frames, see :func:`frame_blocks`)."""
     episodes = sorted(episodes, key=lambda e: e.get("index", 0))
     document = Document(f"Verification report: {report.get('behavior')} on "
                         f"{report.get('env_id')}")
     document.add(*claim_blocks(report), *numbers_table(report),
                  *failure_blocks(report, episodes, store_path),
                  *graph_blocks(report, plan, episodes), *chart_blocks(report, episodes),
-                 *frame_blocks(frames), *provenance_blocks(report, plan))
+                 *frame_blocks(frames, key), *provenance_blocks(report, plan))
     return document

@@ -109,3 +109,30 @@ def episodes_png(episodes: list[dict[str, Any]]) -> bytes:
     hist.set_title("histogram", fontsize=9)
     hist.legend(fontsize=7)
     return png_of(fig)
+
+
+def frame_png(image: np.ndarray, cells: int) -> bytes:
+    """A frame of a grid of ``cells`` per side with the cells' indices along its edges (``i``
+    below, ``j`` on the left, counted from the bottom-left cell)."""
+    fig = figure(2.6, 2.6)
+    ax = fig.add_subplot()
+    ax.imshow(image, extent=(0, cells, 0, cells), interpolation="nearest")
+    ticks = np.arange(cells) + 0.5
+    step = max(1, math.ceil(cells / 10))  # at most about ten labels a side
+    ax.set_xticks(ticks[::step], [str(k) for k in range(0, cells, step)], fontsize=7)
+    ax.set_yticks(ticks[::step], [str(k) for k in range(0, cells, step)], fontsize=7)
+    ax.set_xlabel("i", fontsize=8, labelpad=1)
+    ax.set_ylabel("j", fontsize=8, labelpad=1, rotation=0)
+    ax.tick_params(length=0, pad=1)
+    return png_of(fig)
+
+
+def legend_png(colours: tuple[tuple[str, tuple[int, int, int]], ...]) -> bytes:
+    """The colours of an env's frames and what each shows, as a legend."""
+    from matplotlib.patches import Patch
+
+    fig = figure(6.0, 0.35 + 0.22 * math.ceil(len(colours) / 3))
+    handles = [Patch(facecolor=np.array(rgb) / 255, edgecolor="0.5", label=label)
+               for label, rgb in colours]
+    fig.legend(handles=handles, loc="center", ncols=3, fontsize=8, frameon=False)
+    return png_of(fig)

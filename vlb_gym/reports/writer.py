@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from vlb_gym.core.env import FrameKey
 from vlb_gym.core.files import write_atomic
 
 from . import html, markdown
@@ -18,18 +19,20 @@ from .content import build_document
 
 def write_report_dir(out_dir: Path, report: dict[str, Any], episodes: list[dict[str, Any]],
                      plan: Plan, frames: dict[str, list[np.ndarray]] | None = None,
-                     store_path: str | None = None) -> list[Path]:
+                     store_path: str | None = None, key: FrameKey | None = None
+                     ) -> list[Path]:
     """Write the report of a finished campaign into ``out_dir`` and return the files written.
 
     ``report`` is a :class:`~vlb_gym.verify.report.Report` (or its JSON), ``episodes`` one
     :meth:`~vlb_gym.verify.episode.EpisodeResult.to_dict` per episode, ``plan`` the campaign
     plan (its ``policy_content.behaviors``, ``{source: behavior spec}``, give the graph pictures), ``frames`` optional
-    ``{label: [RGB arrays]}`` and ``store_path`` the campaign store, for replay commands
+    ``{label: [RGB arrays]}`` (``key``: the env's :class:`~vlb_gym.core.env.FrameKey`, for
+    their legend and cell indices) and ``store_path`` the campaign store, for replay commands
     (omitted when None). report.html needs nothing but itself; report.md shows the PNG files
     in ``figures/``. Every file is written atomically.
     """
     out_dir = Path(out_dir)
-    document = build_document(report, episodes, plan, frames, store_path)
+    document = build_document(report, episodes, plan, frames, store_path, key)
     written: list[Path] = []
 
     def put(path: Path, content: str | bytes) -> None:

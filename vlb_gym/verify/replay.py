@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from vlb_gym.core.env import FrameKey
+
 from .campaign import CampaignConfig, build
 from .episode import EpisodeResult, run_episode
 from .policies import policy_loader
@@ -100,18 +102,19 @@ REPORT_FRAMES = 48  # frames a report's replay holds per episode, however long i
 
 
 def episode_frames(plan: Plan, episodes: Sequence[EpisodeResult]
-                   ) -> tuple[dict[str, list[np.ndarray]], str | None]:
+                   ) -> tuple[dict[str, list[np.ndarray]], FrameKey | None, str | None]:
     """Frames of the first failed and the first successful episode of a stored campaign,
-    replayed where the env renders and the policy is still the one the campaign ran; else no
-    frames and why not."""
+    replayed where the env renders and the policy is still the one the campaign ran, and how
+    to read them (the env's :meth:`~vlb_gym.core.env.PrimitiveEnv.frame_key`); else no frames
+    and why not."""
     config = plan.config()
     try:
         env, policy = build(config, "rgb_array")
     except (ValueError, ImportError) as exc:
-        return {}, str(exc)
+        return {}, None, str(exc)
     try:
         if changed_since(config, policy, plan.content_sha256):
-            return {}, "the policy changed since the campaign"
+            return {}, None, "the policy changed since the campaign"
         frames = {}
         for label, success in (("failed", False), ("successful", True)):
             record = next((e for e in episodes if e.success == success), None)
@@ -119,6 +122,6 @@ def episode_frames(plan: Plan, episodes: Sequence[EpisodeResult]
                 frames[f"{label} episode {record.index}"] = filmed(
                     env, policy, config, record.seed, record.index,
                     max_primitives=len(record.steps), max_frames=REPORT_FRAMES)[1]
-        return frames, None
+        return frames, env.unwrapped.frame_key(), None
     finally:
         env.close()

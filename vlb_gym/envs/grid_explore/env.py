@@ -9,11 +9,12 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from vlb_gym.core.env import PrimitiveEnv
+from vlb_gym.core.env import FrameKey, PrimitiveEnv
 from vlb_gym.core.primitive import Outcome
 from vlb_gym.core.search_space import Memory, Parameter, SearchSpace, Witness
 from vlb_gym.envs import arguments
 
+from . import viewer
 from .generator import check_fits, sample_state
 from .helpers import Cell, GridHelpers
 from .judge import GridJudge
@@ -183,6 +184,13 @@ beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
         return render_rgb(self.state)
+
+    def frame_key(self) -> FrameKey:
+        return FrameKey((("obstacle", viewer.OBSTACLE), ("goal, not yet sensed", viewer.GOAL),
+                         ("explored (labelled by sense)", viewer.EXPLORED),
+                         ("goal, sensed", viewer.EXPLORED_GOAL),
+                         ("agent; outline: start cell", viewer.AGENT),
+                         ("trail of the agent's moves", viewer.TRAIL)), self.size)
 
     def sampling_distribution(self) -> str:
         half = self.size / 2
