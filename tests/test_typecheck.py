@@ -73,6 +73,14 @@ def compile_doc(doc: dict, env: gym.Env):
      "current_cell() (tuple) and len(explored()) (int) have no order"),
     ("goal_cell() > None", "None is None, which has no order"),
     ("sum(explored()) > 0", "sum() adds numbers; explored() is a list of tuple (column 1)"),
+    ("current_cell() + 1 == (1, 1)",
+     "'current_cell() + 1' applies '+' to a tuple and an int, which fails whenever it runs"),
+    ("len(explored() + current_cell()) > 2", "applies '+' to a list and a tuple"),
+    ("label(current_cell()) - 1 > 0", "applies '-' to a str and an int"),
+    ("len(explored() * explored()) > 0", "applies '*' to a list and a list"),
+    ("len(explored() * 1.5) > 0", "applies '*' to a list and a float"),
+    ("manhattan(current_cell(), current_cell()) + None > 0", "applies '+' to an int and None"),
+    ("len(label(current_cell()) % 2) > 0", "applies '%' to a str and an int"),
 ])
 def test_refusals_name_the_place_and_say_why(grid_env, text, message):
     with pytest.raises(BehaviorSpecError) as info:
@@ -80,6 +88,15 @@ def test_refusals_name_the_place_and_say_why(grid_env, text, message):
     assert str(info.value).startswith("b.json: edges[0].guard: ")
     assert message in str(info.value)
     assert info.value.layer == "expressions"
+
+
+def test_arithmetic_on_a_function_result_of_the_wrong_kind_is_caught_at_load(grid_env):
+    doc = explore_doc()
+    doc["functions"]["best_step"] = {"args": [], "expr": "current_cell()"}
+    doc["edges"][0]["param"] = "(best_step() + 1, 0)"
+    with pytest.raises(BehaviorSpecError, match=r"b.json: edges\[0\].param: 'best_step\(\) \+ 1' "
+                                                 r"applies '\+' to a tuple and an int"):
+        compile_doc(doc, grid_env)
 
 
 def test_behavior_functions_carry_their_result_type(grid_env):
@@ -101,6 +118,9 @@ def test_behavior_functions_carry_their_result_type(grid_env):
     "label(current_cell())[0] == 'g'", "sorted([label(c) for c in explored()])[0] == 'goal'",
     "current_cell() < (3, 4)", "len(explored()) >= 2.5 > True", "sum(current_cell()) > 3",
     "sum([len(adjacent(c)) for c in explored()]) > 3", "explored() < adjacent()",
+    "len(explored() + adjacent()) > 2", "len(current_cell() + (1,)) == 3",
+    "len(explored() * 2) > 0", "len(3 * label(current_cell())) > 0", "len(True * explored()) >= 0",
+    "len(explored()) * 2.5 + goal_found() - 1 > 0", "len(explored()) % 3 == 1",
 ])
 def test_what_can_be_right_is_accepted(text):
     check(text, GRID, "here")

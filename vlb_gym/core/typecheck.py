@@ -83,6 +83,16 @@ def _accepts(param: Type | None, arg: Type | None) -> bool:
     return True
 
 
+def _a(t: Type) -> str:
+    """A type named with its article: 'an int', 'a tuple', 'None'."""
+    name = t.describe()
+    return name if t.kind == "none" else ("an " if name[0] in "aeiou" else "a ") + name
+
+
+_SYMBOLS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.FloorDiv: "//",
+            ast.Mod: "%", ast.Pow: "**"}
+
+
 class _Inference:
     def __init__(self, signatures: Mapping[str, Signature], where: str):
         self.signatures = signatures
@@ -137,6 +147,7 @@ class _Inference:
         left, right = self.infer(node.left), self.infer(node.right)
         if left is None or right is None:
             return Unknown
+        self._operands(node, left, right)
         numeric = ("int", "float")
         if left.kind in numeric and right.kind in numeric:
             if isinstance(node.op, ast.Div) or FLOAT in (left, right):
@@ -147,6 +158,23 @@ class _Inference:
         if isinstance(node.op, ast.Add) and left.kind == right.kind == "list":
             return Type("list", item=_join(left.item, right.item))
         return Unknown
+
+    def _operands(self, node: ast.BinOp, left: Type, right: Type) -> None:
+        """A type error where Python would raise one for these operand kinds (numbers with
+        numbers; ``+`` joins two of one sequence kind; ``*`` repeats a sequence a whole number
+        of times)."""
+        sequences = ("str", "list", "tuple")
+        if left.kind in NUMBERS and right.kind in NUMBERS:
+            return
+        if isinstance(node.op, ast.Add) and left.kind == right.kind and left.kind in sequences:
+            return
+        if isinstance(node.op, ast.Mult) and {left.kind, right.kind} & set(sequences) and \
+                {left.kind, right.kind} - set(sequences) <= {"int", "bool"} and \
+                not {left.kind, right.kind} <= set(sequences):
+            return
+        symbol = _SYMBOLS.get(type(node.op), type(node.op).__name__)
+        self.fail(node, f"{ast.unparse(node)!r} applies {symbol!r} to {_a(left)} and "
+                        f"{_a(right)}, which fails whenever it runs")
 
     def _BoolOp(self, node: ast.BoolOp) -> Type | None:
         types = [self.infer(v) for v in node.values]
