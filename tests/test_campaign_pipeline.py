@@ -241,3 +241,13 @@ def plt_image(path):
     from matplotlib.image import imread
 
     return imread(path)
+
+
+def test_report_folder_says_what_it_is_doing_while_it_works(stored, tmp_path, capsys):
+    store, _ = stored
+    assert main(["report", str(store), "--out", str(tmp_path / "out")]) == 0
+    printed = capsys.readouterr()
+    assert printed.err.splitlines() == [
+        "vlb report: replaying 2 episode(s) for their frames ...",
+        "vlb report: drawing the report of 30 episode(s) ..."]
+    assert printed.out.startswith("wrote ")

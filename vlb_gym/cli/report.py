@@ -49,9 +49,14 @@ def cmd_report(args: argparse.Namespace) -> int:
             print(f"vlb report: no frames: replaying would run code the store names (name it "
                   f"again to trust it: {' '.join(untrusted)})", file=sys.stderr)
         elif args.frames:
+            replayed = any(not e.success for e in episodes) + any(e.success for e in episodes)
+            print(f"vlb report: replaying {replayed} episode(s) for their frames ...",
+                  file=sys.stderr, flush=True)
             frames, key, why_not = episode_frames(plan, episodes)
             if why_not:
                 print(f"vlb report: no frames: {why_not}", file=sys.stderr)
+        print(f"vlb report: drawing the report of {len(episodes)} episode(s) ...",
+              file=sys.stderr, flush=True)
         written = write_report_dir(out, report, [e.to_dict() for e in episodes], plan, frames,
                                    args.store, key)
         print(f"wrote {', '.join(str(p) for p in written if p.parent == out)}")
