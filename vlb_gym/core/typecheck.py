@@ -89,6 +89,7 @@ def _a(t: Type) -> str:
     return name if t.kind == "none" else ("an " if name[0] in "aeiou" else "a ") + name
 
 
+_SEQUENCES = ("str", "list", "tuple")
 _SYMBOLS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.FloorDiv: "//",
             ast.Mod: "%", ast.Pow: "**"}
 
@@ -163,14 +164,13 @@ class _Inference:
         """A type error where Python would raise one for these operand kinds (numbers with
         numbers; ``+`` joins two of one sequence kind; ``*`` repeats a sequence a whole number
         of times)."""
-        sequences = ("str", "list", "tuple")
         if left.kind in NUMBERS and right.kind in NUMBERS:
             return
-        if isinstance(node.op, ast.Add) and left.kind == right.kind and left.kind in sequences:
+        if isinstance(node.op, ast.Add) and left.kind == right.kind and left.kind in _SEQUENCES:
             return
-        if isinstance(node.op, ast.Mult) and {left.kind, right.kind} & set(sequences) and \
-                {left.kind, right.kind} - set(sequences) <= {"int", "bool"} and \
-                not {left.kind, right.kind} <= set(sequences):
+        if isinstance(node.op, ast.Mult) and any(
+                a.kind in _SEQUENCES and b.kind in ("int", "bool")
+                for a, b in ((left, right), (right, left))):
             return
         symbol = _SYMBOLS.get(type(node.op), type(node.op).__name__)
         self.fail(node, f"{ast.unparse(node)!r} applies {symbol!r} to {_a(left)} and "

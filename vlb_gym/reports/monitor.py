@@ -11,6 +11,7 @@ served, and nothing on the page comes from outside this machine.
 
 from __future__ import annotations
 
+import html
 import json
 import os
 import sqlite3
@@ -191,7 +192,7 @@ class Monitor(ThreadingHTTPServer):
                              f"{MIN_INTERVAL:g} to {MAX_INTERVAL:g} seconds")
         self.status = Status(Path(path))
         self.page = (PAGE.replace("INTERVAL", f"{interval:g}")
-                     .replace("STORE", _html(str(path)))).encode()
+                     .replace("STORE", html.escape(str(path)))).encode()
         super().__init__(("127.0.0.1", port), _Handler)
 
     @property
@@ -204,11 +205,6 @@ class Monitor(ThreadingHTTPServer):
         if not isinstance(error, ConnectionError):
             print(f"vlb monitor: a request failed: {type(error).__name__}: {error}",
                   file=sys.stderr)
-
-
-def _html(text: str) -> str:
-    return (text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-            .replace('"', "&quot;"))
 
 
 class _Handler(BaseHTTPRequestHandler):

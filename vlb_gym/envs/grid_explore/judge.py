@@ -7,7 +7,7 @@ so a promise can say what the behavior did, not only what the agent believes.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any
+from functools import cached_property
 
 import numpy as np
 
@@ -34,32 +34,27 @@ class GridJudge(Judge):
         self._adjacent = [[self._cells[m] for m in ms] for ms in _neighbours(size)]
         self._state: GridState | None = None
         self._episode = Episode(None, [], {})
-        self._read: dict[str, list[Any]] = {}  # what bind's episode says, read when first asked
         self._start: Cell = (0, 0)
 
     def bind(self, episode: Episode) -> None:
         self._state = episode.state
         self._episode = episode
-        self._read = {}
+        for read in ("_steps", "_goal_known"):  # the last episode's, read when first asked
+            self.__dict__.pop(read, None)
         entry = episode.entry
         self._start = tuple(entry["cell"] if "cell" in entry else entry["start_cell"])
 
-    @property
+    @cached_property
     def _steps(self) -> list[tuple[str, Cell]]:
         """Each step's primitive and parameter cell, in order."""
-        if "steps" not in self._read:
-            self._read["steps"] = [(s["primitive"], tuple(map(int, s["param"])))
-                                   for s in self._episode.steps]
-        return self._read["steps"]
+        return [(s["primitive"], tuple(map(int, s["param"]))) for s in self._episode.steps]
 
-    @property
+    @cached_property
     def _goal_known(self) -> list[bool]:
         """Whether a goal was known before the first step and after each."""
-        if "goal_known" not in self._read:
-            episode = self._episode
-            self._read["goal_known"] = [bool(episode.entry.get("goal_found", False))] + \
-                [bool(s["goal_found"]) for s in episode.steps]
-        return self._read["goal_known"]
+        episode = self._episode
+        return [bool(episode.entry.get("goal_found", False))] + \
+            [bool(s["goal_found"]) for s in episode.steps]
 
     @property
     def _truth(self) -> np.ndarray:
