@@ -187,3 +187,27 @@ def test_an_export_of_a_later_format_is_refused(tmp_path):
                                *lines[1:]]) + "\n")
     with pytest.raises(FormatError, match="line 1: export format 2"):
         read_export(path)
+
+
+@pytest.mark.parametrize("version, words", [(-1, "must be a positive integer"),
+                                             (2**31 - 1, "format 2147483647 was written by a newer")])
+def test_a_store_whose_version_is_no_format_is_refused_in_one_line(v1, version, words):
+    path = v1 / "campaign.db"
+    with sqlite3.connect(path) as db:
+        db.execute(f"PRAGMA user_version={version}")
+    done = vlb("report", "campaign.db", cwd=v1)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert words in done.stderr and "Traceback" not in done.stderr
+
+
+@pytest.mark.parametrize("found", [10**100, -(10**100), "1" * 10**5, [1], {"v": 1}, None])
+def test_a_behavior_file_format_of_any_json_value_is_one_line(tmp_path, found):
+    data = json.loads((V1 / "behavior.json").read_text())
+    path = tmp_path / "odd.json"
+    path.write_text(json.dumps({**data, "format": found}))
+    done = vlb("behaviors", str(path), cwd=tmp_path)
+    if found is None:  # null: no format given, format 1
+        assert done.returncode == 0, done.stderr
+    else:
+        assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+        assert len(done.stderr) < 2500 and "format" in done.stderr
