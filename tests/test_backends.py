@@ -201,9 +201,7 @@ def campaign_records(backend: str, workers: int) -> list[dict]:
     config = CampaignConfig("VLB-GridExplore-v0", "explore_until_goal", 40)
     results = run_indices(functools.partial(tasks.campaign, config), range(40),
                           backend=backend, workers=workers)
-    records = sorted((r.to_dict() for r in results), key=lambda r: r["index"])
-    for record in records:
-        del record["seconds"]
+    records = sorted((r.outcome() for r in results), key=lambda r: r["index"])
     assert [r["index"] for r in records] == list(range(40))
     return records
 

@@ -8,6 +8,7 @@ import shutil
 import sqlite3
 
 import gymnasium as gym
+import numpy as np
 import pytest
 
 from vlb_gym.cli import main
@@ -251,3 +252,32 @@ def test_report_folder_says_what_it_is_doing_while_it_works(stored, tmp_path, ca
         "vlb report: replaying 2 episode(s) for their frames ...",
         "vlb report: drawing the report of 30 episode(s) ..."]
     assert printed.out.startswith("wrote ")
+
+
+def test_the_failed_step_is_drawn_on_the_last_frame(stored):
+    """The replayed failed episode's last frame outlines, in the legend's colour, the cell its
+    failed step was sent to, and nothing else does; a successful episode shows no such cell."""
+    from vlb_gym.envs.grid_explore.viewer import CELL_PX, FAILED
+    from vlb_gym.verify.replay import episode_frames
+    from vlb_gym.verify.store import open_readonly
+
+    reader = open_readonly(stored[0])
+    try:
+        plan, episodes = reader.plan(), reader.results()
+    finally:
+        reader.close()
+    frames, key, why_not = episode_frames(plan, episodes)
+    assert why_not is None and ("cell a failed step was sent to", FAILED) in key.colours
+    failed = next(e for e in episodes if not e.success)
+    step = failed.steps[-1]
+    assert step["certificate"] is False  # a campaign stops at the first failed step
+    images = frames[f"failed episode {failed.index}"]
+    marked = [np.argwhere((image == FAILED).all(-1)) for image in images]
+    assert all(len(m) == 0 for m in marked[:-1]) and len(marked[-1]) > 0
+    i, j = step["param"]
+    rows, cols = marked[-1][:, 0], marked[-1][:, 1]
+    top, left = (key.cells - 1 - j) * CELL_PX, i * CELL_PX
+    assert rows.min() >= top and rows.max() < top + CELL_PX
+    assert cols.min() >= left and cols.max() < left + CELL_PX
+    success = next(label for label in frames if label.startswith("successful"))
+    assert not any((image == FAILED).all(-1).any() for image in frames[success])

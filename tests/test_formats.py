@@ -19,14 +19,15 @@ from vlb_gym.verify import comparison
 from vlb_gym.verify.campaign import Campaign, report_from_store
 from vlb_gym.verify.records import CampaignConfig
 from vlb_gym.verify.export import read_export
-from vlb_gym.verify.store import StoreError, open_readonly
+from vlb_gym.verify.store import CampaignStore, StoreError, open_readonly
 
 FIXTURES = Path(__file__).parent / "fixtures" / "formats"
 V1 = FIXTURES / "v1"
+V2 = FIXTURES / "v2"  # stores and exports whose steps record their time
 VLB = [sys.executable, "-m", "vlb_gym.cli"]
 COMMAND = ["verify", "VLB-GridExplore-v0", "--behavior", "behavior.json", "--env-kwarg",
            "action_noise=1.0", "--episodes", "30", "--epsilon", "0.1", "--seed", "3", "--quiet"]
-"""The command that wrote the fixture store (tests/fixtures/formats/make_v1.sh)."""
+"""The command that wrote the fixture store (tests/fixtures/formats/make.sh v1)."""
 
 
 def load_spec(path: Path):
@@ -103,6 +104,51 @@ def test_a_format_1_export_reads_as_its_store(v1):
     assert end == {"complete": True, "episodes": 30}
 
 
+@pytest.mark.parametrize("folder", [V1, V2])
+def test_steps_of_each_format_read_with_their_times_or_none(folder):
+    """Format 1 recorded no step times (None); format 2 records each step's, which sum to at
+    most the episode's own time."""
+    store = open_readonly(folder / "campaign.db")
+    try:
+        episodes = store.results()
+    finally:
+        store.close()
+    assert episodes == read_export(folder / "episodes.jsonl")[1]
+    for episode in episodes:
+        times = [step["seconds"] for step in episode.steps]
+        if folder == V1:
+            assert times == [None] * len(times)
+        else:
+            assert all(t > 0 for t in times) and sum(times) <= episode.seconds
+
+
+def test_a_format_2_store_reads_to_the_report_that_was_written_beside_it():
+    written = json.loads((V2 / "report.json").read_text())
+    store = open_readonly(V2 / "campaign.db")
+    try:
+        report = report_from_store(store)
+    finally:
+        store.close()
+    for key in ("successes", "episodes", "failures", "lower_bound", "confidence",
+                "content_sha256", "failures_by_cause", "seed"):
+        assert report[key] == written[key], key
+    printed = vlb("report", str(V2 / "campaign.db"), "--json", cwd=V2)
+    nodes = json.loads(printed.stdout)["nodes"]
+    assert all(node["mean_seconds"] > 0 for node in nodes if node["runs"])
+
+
+def test_a_format_1_store_opened_to_resume_becomes_the_current_format(v1):
+    """A resumed store holds records of the current format from then on: it says so."""
+    CampaignStore(v1 / "campaign.db").close()
+    with sqlite3.connect(v1 / "campaign.db") as db:
+        assert db.execute("PRAGMA user_version").fetchone() == (CURRENT["store"],)
+    store = open_readonly(v1 / "campaign.db")
+    try:
+        assert len(store.results()) == 30
+    finally:
+        store.close()
+
+
 def test_a_format_1_comparison_store_reads(v1, monkeypatch):
     monkeypatch.chdir(v1)  # the summary shows paths as the command would, from where it runs
     store = open_readonly(v1 / "comparison.db")
@@ -175,7 +221,8 @@ def test_a_store_of_a_later_format_is_refused_and_left_as_it_was(v1):
     for command in (["report", "campaign.db"], [*COMMAND, "--store", "campaign.db"]):
         done = vlb(*command, cwd=v1)
         assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
-        assert "store format 2 was written by a newer vlb-gym" in done.stderr
+        assert f"store format {CURRENT['store'] + 1} was written by a newer vlb-gym" in \
+            done.stderr
     assert path.read_bytes() == before
 
 
@@ -185,7 +232,7 @@ def test_an_export_of_a_later_format_is_refused(tmp_path):
     path = tmp_path / "later.jsonl"
     path.write_text("\n".join([json.dumps({**first, "format": CURRENT["export"] + 1}),
                                *lines[1:]]) + "\n")
-    with pytest.raises(FormatError, match="line 1: export format 2"):
+    with pytest.raises(FormatError, match=f"line 1: export format {CURRENT['export'] + 1}"):
         read_export(path)
 
 

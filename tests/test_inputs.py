@@ -21,10 +21,7 @@ OTHER = ROOT / "vlb_gym" / "behaviors" / "find_goal_and_oscillate.json"
 
 
 def records(results) -> list[dict]:
-    out = sorted((r.to_dict() for r in results), key=lambda r: r["index"])
-    for record in out:
-        del record["seconds"]
-    return out
+    return sorted((r.outcome() for r in results), key=lambda r: r["index"])
 
 
 def test_workers_build_from_the_plan_not_the_disk(tmp_path, monkeypatch):

@@ -97,7 +97,10 @@ def test_the_page_follows_a_running_campaign_to_its_report(tmp_path, serving):
     assert "P[success] >=" in summary and "INCOMPLETE" not in summary
     assert vlb("report", str(store), cwd=tmp_path).stdout.strip() == summary.strip()
     assert {row[0] for row in nodes} == {"sense", "go"}
-    assert all(int(row[1]) > 0 and row[2] == "0" for row in nodes)
+    assert all(int(row[1]) > 0 and row[2] == "0" and row[4] == "-" for row in nodes)
+    assert all(row[5].endswith(" ms") and float(row[5][:-3]) > 0 for row in nodes)
+    # the page's node table is the report's
+    assert [(n["node"], n["runs"]) for n in report["nodes"]] == [(r[0], int(r[1])) for r in nodes]
     assert all(url.startswith(server.url) for url in requests), requests  # nothing from outside
 
 
@@ -125,6 +128,8 @@ def test_a_failing_campaign_shows_its_causes_with_replay_commands(tmp_path, serv
     finally:
         reader.close()
     assert sum(n["failed"] for n in state["nodes"]) == failed > 0
+    assert state["nodes"] == report["nodes"]  # steps, failures by kind, mean time: the report's
+    assert state["nodes"][1]["failures"] == {"navigate: inadmissible parameter": failed}
 
 
 def test_what_is_not_a_store_is_said_and_only_two_paths_are_served(tmp_path, serving):

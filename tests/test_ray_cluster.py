@@ -51,10 +51,7 @@ def cluster():
 
 
 def records(results) -> list[dict]:
-    out = sorted((r.to_dict() for r in results), key=lambda r: r["index"])
-    for record in out:
-        del record["seconds"]
-    return out
+    return sorted((r.outcome() for r in results), key=lambda r: r["index"])
 
 
 def clean(config: CampaignConfig) -> list[dict]:

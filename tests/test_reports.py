@@ -7,6 +7,7 @@ import copy
 import dataclasses
 import io
 import json
+from collections import Counter
 import math
 import shutil
 import re
@@ -24,6 +25,7 @@ from vlb_gym.reports import graph as report_graph
 from vlb_gym.reports import write_report_dir
 from vlb_gym.reports.attribution import NodeStats, node_stats, plan_behaviors
 from vlb_gym.reports.png import encode_png
+from vlb_gym.reports.markdown import escape
 from vlb_gym.verify.campaign import Campaign, CampaignConfig
 from vlb_gym.verify.policies import PolicyRef
 
@@ -67,11 +69,49 @@ def test_files_written_and_json_round_trips(campaign):
             "figures/graph-1.png", "figures/confidence.png", "figures/episodes.png"} <= names
     assert all(p.is_file() for p in files)
     assert not list(out.glob(".*.tmp")) and not list(out.glob("figures/.*.tmp"))
-    assert json.loads((out / "report.json").read_text()) == json.loads(
-        json.dumps(campaign["report"]))
+    written = json.loads((out / "report.json").read_text())
+    assert written.pop("nodes")  # each node's statistics: test_node_statistics
+    assert written == json.loads(json.dumps(campaign["report"]))
     html = (out / "report.html").read_text()
     assert "http://" not in html and "https://" not in html and " src=\"data:image/png" in html
     assert len(html) < 1_500_000
+
+
+def test_node_statistics(campaign):
+    """report.json's ``nodes`` and report.md's node table against the episodes' own steps,
+    grouped here by the node each step names: steps, failed certificates by cause and mean
+    step time per primitive node; a sub-behavior node totals its behavior's nodes."""
+    nodes = {row["node"]: row for row in
+             json.loads((campaign["out"] / "report.json").read_text())["nodes"]}
+    steps = [step for episode in campaign["episodes"] for step in episode["steps"]]
+    by_node: dict[str, list[dict]] = {}
+    for step in steps:
+        by_node.setdefault(step["node"], []).append(step)
+    primitive_nodes = {name: row for name, row in nodes.items() if row["primitive"]}
+    assert set(by_node) <= set(primitive_nodes)
+    for name, row in primitive_nodes.items():
+        mine = by_node.get(name, [])
+        failed = [s for s in mine if not s["certificate"]]
+        assert (row["runs"], row["failed"]) == (len(mine), len(failed)), name
+        assert row["failures"] == dict(Counter(s["cause"] for s in failed)), name
+        if mine:
+            assert row["mean_seconds"] == pytest.approx(
+                sum(s["seconds"] for s in mine) / len(mine))
+            assert row["failure_rate"] == len(failed) / len(mine)
+    subs = [row for row in nodes.values() if row["behavior"]]
+    assert subs
+    for row in subs:  # the sub-behavior's nodes are named after it, "name/node"
+        inside = [r for name, r in primitive_nodes.items() if name.startswith(row["behavior"] + "/")]
+        assert row["runs"] == sum(r["runs"] for r in inside) > 0
+    assert sum(row["failed"] for row in primitive_nodes.values()) == \
+        sum(e["failed_certificates"] for e in campaign["episodes"]) > 0
+    text = (campaign["out"] / "report.md").read_text()
+    assert "| node | what it runs | steps | failed | failure rate | failures by kind |" in text
+    for name, row in primitive_nodes.items():
+        kinds = "; ".join(f"{cause}: {count}" for cause, count in row["failures"].items()) or "-"
+        assert (f"| {escape(name)} | {row['primitive']} | {row['runs']} | {row['failed']} |"
+                in text)
+        assert escape(kinds) in text
 
 
 def test_markdown_holds_independently_computed_numbers(campaign):

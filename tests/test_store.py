@@ -17,7 +17,7 @@ import pytest
 from vlb_gym.cli import main
 from vlb_gym.verify import (CampaignConfig, CampaignStore, StoreError, report_from_store,
                             run_campaign)
-from vlb_gym.verify.store import parting
+from vlb_gym.verify.store import open_readonly, parting
 
 from .conftest import EXAMPLES
 
@@ -124,8 +124,17 @@ def test_vlb_report_rebuilds_the_report_from_the_store(tmp_path, capsys):
     assert main(["report", str(store), "--json"]) == 0
     rebuilt = json.loads(capsys.readouterr().out)
     original = json.loads((tmp_path / "r.json").read_text())
+    nodes = rebuilt.pop("nodes")  # the store has every step: the report adds each node's
     assert comparable({**rebuilt, "planned_episodes": None}) == \
         comparable({**original, "planned_episodes": None})
+    reader = open_readonly(store)
+    try:
+        steps = [step for episode in reader.results() for step in episode.steps]
+    finally:
+        reader.close()
+    assert sum(node["runs"] for node in nodes) == len(steps) > 0
+    assert sum(node["failed"] for node in nodes) == sum(not s["certificate"] for s in steps)
+    assert all(node["mean_seconds"] > 0 for node in nodes if node["runs"])
     assert main(["report", str(store)]) == 0
     assert f"successes {original['successes']}/50, failures {original['failures']}" in \
         capsys.readouterr().out

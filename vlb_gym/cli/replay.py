@@ -114,8 +114,8 @@ def cmd_replay(args: argparse.Namespace) -> int:
         print(f"episode {record.index} (seed {seed}) reproduces the stored record"
               if not args.keep_going else "--keep-going: not compared with the stored record")
         return 0
-    differ = [k for k, v in result.to_dict().items()
-              if k not in ("seconds", "error") and record.to_dict()[k] != v]
+    stored_outcome = record.outcome()
+    differ = [k for k, v in result.outcome().items() if stored_outcome[k] != v]
     print(f"vlb replay: episode {record.index} does NOT reproduce the stored record (differs "
           f"in: {', '.join(differ)}); was the env or a package upgraded? versions then: "
           f"see 'vlb report {args.target} --json'", file=sys.stderr)

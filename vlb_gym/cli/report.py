@@ -61,7 +61,15 @@ def cmd_report(args: argparse.Namespace) -> int:
                                    args.store, key)
         print(f"wrote {', '.join(str(p) for p in written if p.parent == out)}")
         return 0
-    print(report.to_json() if args.json else report.summary(), end="\n" * (not args.json))
+    if args.json:
+        import json
+
+        from vlb_gym.reports import report_data
+
+        data = report_data(report, [e.to_dict() for e in episodes], plan)
+        print(json.dumps(data, indent=2, allow_nan=False))
+    else:
+        print(report.summary())
     return 0
 
 
@@ -94,7 +102,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                        "of 'vlb compare --store'), from the store alone.")
     t.add_argument("store", metavar="STORE",
                    help="the SQLite file given to vlb verify (or vlb compare) --store")
-    t.add_argument("--json", action="store_true", help="print the JSON report")
+    t.add_argument("--json", action="store_true",
+                   help="print the JSON report (with each node's steps, failures by kind and "
+                   "mean step time, under \"nodes\")")
     t.add_argument("--out", metavar="DIR",
                    help="write report.json, report.md (with figures/) and a self-contained "
                    "report.html here: the claim in words, failures by cause with replay "

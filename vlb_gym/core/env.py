@@ -79,6 +79,9 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         self._action_nvec = self._nvec(self.action_space)
         self._state: State | None = None
         self._on_frame: FrameCallback | None = None
+        #: what the last step's primitive recorded (None before the first step of an episode):
+        #: an env's :meth:`render` may draw it, e.g. where a failed step was sent
+        self.last_outcome: Outcome | None = None
 
     # -- what a subclass supplies ----------------------------------------------------------------
     @abc.abstractmethod
@@ -190,6 +193,7 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         super().reset(seed=seed)
         self._state = self.sample_state()
+        self.last_outcome = None
         self._frame()
         return self.observation(), self.reset_info()
 
@@ -197,6 +201,7 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         state = self.state
         primitive, param = self.decode_action(action)
         outcome = execute(primitive, state, param, self.np_random)
+        self.last_outcome = outcome
         info = outcome.as_info()
         info.update(self.step_info(outcome))
         self._frame()

@@ -15,7 +15,7 @@ from typing import Any
 
 from .errors import UserError
 
-CURRENT = {"behavior": 1, "store": 1, "report": 1, "export": 1}
+CURRENT = {"behavior": 1, "store": 2, "report": 1, "export": 2}
 """The format each kind of file is written in."""
 
 WHAT = {"behavior": "behavior file", "store": "store", "report": "report", "export": "export"}

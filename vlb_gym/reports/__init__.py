@@ -9,6 +9,6 @@ the pictures; :mod:`.attribution` counts failed certificates per node; :mod:`.wr
 the folder.
 """
 
-from .writer import write_report_dir
+from .writer import report_data, write_report_dir
 
-__all__ = ["write_report_dir"]
+__all__ = ["report_data", "write_report_dir"]

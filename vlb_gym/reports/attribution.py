@@ -9,8 +9,9 @@ approximate. A sub-behavior node totals the nodes of the behavior it names.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import PurePath
 from typing import TYPE_CHECKING, Any
 
@@ -20,16 +21,46 @@ if TYPE_CHECKING:
 
 @dataclass
 class NodeStats:
-    """Steps run at a node and how many of their certificates failed."""
+    """Steps run at a node, how many of their certificates failed and why (the steps'
+    causes: inadmissible parameter, controller failed, certificate), and their wall time."""
 
     runs: int = 0
     failed: int = 0
     approximate: bool = False  # attributed by primitive: the node was not recorded
+    causes: Counter[str] = field(default_factory=Counter)
+    timed: int = 0  # steps that recorded their time (stores of format 2 on)
+    seconds: float = 0.0
+
+    def count(self, step: Mapping[str, Any]) -> None:
+        """Add one recorded step."""
+        self.runs += 1 if step.get("counted", True) else 0
+        if step.get("certificate") is False:
+            self.failed += 1
+            self.causes[str(step.get("cause") or "certificate")] += 1
+        seconds = step.get("seconds")
+        if isinstance(seconds, (int, float)):
+            self.timed += 1
+            self.seconds += seconds
 
     def add(self, other: NodeStats) -> None:
         self.runs += other.runs
         self.failed += other.failed
         self.approximate = self.approximate or other.approximate
+        self.causes.update(other.causes)
+        self.timed += other.timed
+        self.seconds += other.seconds
+
+    @property
+    def mean_seconds(self) -> float | None:
+        """A step's mean wall time, None when no step recorded one."""
+        return self.seconds / self.timed if self.timed else None
+
+    def as_dict(self) -> dict[str, Any]:
+        """The statistics as JSON data (``failures``: failed certificates by cause)."""
+        return {"runs": self.runs, "failed": self.failed,
+                "failure_rate": self.failed / self.runs if self.runs else None,
+                "failures": dict(self.causes.most_common()),
+                "mean_seconds": self.mean_seconds, "approximate": self.approximate}
 
 
 def plan_behaviors(plan: Plan) -> dict[str, dict[str, Any]]:
@@ -116,8 +147,7 @@ def node_stats(specs: Mapping[str, dict[str, Any]], episodes: list[dict[str, Any
         else:
             behavior, _, node_id = str(node).rpartition("/")
             stats = by_node.setdefault((behavior, node_id, primitive), NodeStats())
-        stats.runs += 1 if step.get("counted", True) else 0
-        stats.failed += step.get("certificate") is False
+        stats.count(step)
 
     result: dict[str, dict[str, NodeStats]] = {}
 
@@ -152,7 +182,29 @@ def failures_by_primitive(episodes: list[dict[str, Any]]) -> dict[str, NodeStats
     table: dict[str, NodeStats] = {}
     for episode in episodes:
         for step in episode.get("steps") or []:
-            stats = table.setdefault(str(step.get("primitive")), NodeStats())
-            stats.runs += 1
-            stats.failed += step.get("certificate") is False
+            table.setdefault(str(step.get("primitive")), NodeStats()).count(step)
     return table
+
+
+def node_rows(plan: Plan, episodes: list[dict[str, Any]], behavior: str
+              ) -> list[dict[str, Any]]:
+    """Every node's statistics (:meth:`NodeStats.as_dict`) as the report's graph counts them,
+    ``node`` named as steps name it (``sub/node`` in a sub-behavior), the main behavior first;
+    empty for a trained agent."""
+    specs = plan_behaviors(plan)
+    order = behavior_order(behavior, specs)
+    return rows_of(specs, order, node_stats(specs, episodes, order[0])) if order else []
+
+
+def rows_of(specs: Mapping[str, dict[str, Any]], order: list[str],
+            stats: Mapping[str, Mapping[str, NodeStats]]) -> list[dict[str, Any]]:
+    """:func:`node_rows` of statistics already counted (``order``: :func:`behavior_order`)."""
+    rows = []
+    for key in order:
+        prefix = "" if key == order[0] else str(specs[key].get("name", key)) + "/"
+        for node in specs[key].get("nodes", []):
+            node_id = str(node.get("id"))
+            rows.append({"node": prefix + node_id, "primitive": node.get("primitive"),
+                         "behavior": child_ref(node),
+                         **stats[key].get(node_id, NodeStats()).as_dict()})
+    return rows

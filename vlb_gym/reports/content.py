@@ -23,6 +23,7 @@ MAX_FAILED_ROWS = 25
 MAX_TRACEBACKS = 3
 MAX_FRAMES = 6
 MAX_GRAPHS = 12  # behavior graphs drawn in one report
+MAX_NODE_ROWS = 60  # rows of the node table in report.md/html
 MATPLOTLIB_MISSING = ("no picture (matplotlib, a dependency of vlb-gym, is missing: pip install "
                       "matplotlib)")
 
@@ -259,6 +260,7 @@ def graph_blocks(report: dict[str, Any], plan: Plan,
         blocks.append(Figure(f"graph-{i}.png", png, f"graph of the {title}",
                              f"{title} ({key}), drawn with {how}"))
         blocks += promise_blocks(spec, episodes)
+    blocks += node_table(attribution.rows_of(specs, order, stats))
     no_certificate = [e for e in episodes
                       if e.get("rho", 1) < 0 and not e.get("failed_certificates")]
     if no_certificate:
@@ -267,6 +269,28 @@ def graph_blocks(report: dict[str, Any], plan: Plan,
                                  "failed certificate (", "; ".join(causes),
                                  "): they are not on the graph."]))
     return blocks + primitive_table(episodes)
+
+
+def node_table(rows: list[dict[str, Any]]) -> list[Block]:
+    """Each node's steps, failed certificates by kind and mean step time (the first
+    :data:`MAX_NODE_ROWS`; report.json holds them all)."""
+    if not rows:
+        return []
+    shown = rows[:MAX_NODE_ROWS]
+    more = ([Paragraph([f"The first {MAX_NODE_ROWS} of {len(rows)} nodes; report.json lists "
+                        "them all."])] if len(rows) > MAX_NODE_ROWS else [])
+    return [Paragraph(["Each node's steps, the certificates that failed there by kind, and the "
+                       "mean wall time of a step (the policy's decision and the env's step)."]),
+            Table(["node", "what it runs", "steps", "failed", "failure rate", "failures by kind",
+                   "mean step time"],
+                  [[row["node"], str(row["primitive"] or f"behavior {row['behavior']}"),
+                    str(row["runs"]), str(row["failed"]),
+                    bounds.rounded(row["failure_rate"], 2, up=True, percent=True)
+                    if row["failure_rate"] is not None else "-",
+                    "; ".join(f"{cause}: {count}" for cause, count in row["failures"].items())
+                    or "-",
+                    f"{1000 * row['mean_seconds']:.2f} ms" if row["mean_seconds"] is not None
+                    else "-"] for row in shown], numeric=(2, 3, 4, 6)), *more]
 
 
 def promise_blocks(spec: dict[str, Any], episodes: list[dict[str, Any]]) -> list[Block]:

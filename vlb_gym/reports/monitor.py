@@ -51,8 +51,8 @@ def snapshot(path: str | Path) -> dict[str, Any]:
             else:
                 report, plan, records = report_and_records(store)
                 done, planned, unit = report["episodes"], report["planned_episodes"], "episodes"
-                nodes = _nodes(plan, [r.to_dict() for r in records],
-                               str(report.get("behavior", "")))
+                nodes = attribution.node_rows(plan, [r.to_dict() for r in records],
+                                              str(report.get("behavior", "")))
         finally:
             store.close()
     except (UserError, OSError, sqlite3.DatabaseError, ValueError) as exc:
@@ -70,20 +70,6 @@ def _replay(report: Any, group: dict[str, Any]) -> str | None:
     if replay is None or not group.get("episodes"):
         return None
     return replay(group["episodes"][0], group["seeds"][0])
-
-
-def _nodes(plan: Any, episodes: list[dict[str, Any]], behavior: str) -> list[dict[str, Any]]:
-    """Each node's steps and failed certificates, as the report's graph counts them."""
-    specs = attribution.plan_behaviors(plan)
-    order = attribution.behavior_order(behavior, specs)
-    if not order:
-        return []
-    rows = []
-    for key, table in attribution.node_stats(specs, episodes, order[0]).items():
-        name = "" if key == order[0] else str(specs[key].get("name", key)) + "/"
-        rows += [{"node": name + node, "runs": stats.runs, "failed": stats.failed}
-                 for node, stats in table.items()]
-    return rows
 
 
 @dataclass
@@ -143,7 +129,8 @@ td.n{text-align:right}progress{width:30em;height:1.2em}.muted{color:#777}
 <h2>Failures by cause</h2><table id="failures"><thead><tr><th>cause</th><th>count</th>
 <th>replay one</th></tr></thead><tbody></tbody></table>
 <h2>Nodes</h2><table id="nodes"><thead><tr><th>node</th><th>steps</th><th>failed</th>
-<th>failed share</th></tr></thead><tbody></tbody></table>
+<th>failed share</th><th>failures by kind</th><th>mean time of a step</th></tr></thead>
+<tbody></tbody></table>
 <p class="muted">Refreshes every INTERVAL s from STORE (read-only).</p>
 <script>
 function fill(id, rows) {
@@ -171,7 +158,9 @@ async function refresh() {
     document.getElementById('summary').textContent = s.summary;
     fill('failures', s.failures.map(f => [[f.cause], [String(f.count), 1], [f.replay || '-']]));
     fill('nodes', s.nodes.map(n => [[n.node], [String(n.runs), 1], [String(n.failed), 1],
-      [n.runs ? (100 * n.failed / n.runs).toFixed(2) + '%' : '-', 1]]));
+      [n.runs ? (100 * n.failed / n.runs).toFixed(2) + '%' : '-', 1],
+      [Object.entries(n.failures).map(([k, c]) => k + ': ' + c).join('; ') || '-'],
+      [n.mean_seconds === null ? '-' : (1000 * n.mean_seconds).toFixed(2) + ' ms', 1]]));
   } catch (e) {
     document.getElementById('state').textContent = ' (monitor unreachable: ' + e + ')';
   }

@@ -14,7 +14,15 @@ from vlb_gym.core.files import write_atomic
 from . import html, markdown
 from vlb_gym.verify.records import Plan
 
+from .attribution import node_rows
 from .content import build_document
+
+
+def report_data(report: dict[str, Any], episodes: list[dict[str, Any]], plan: Plan
+                ) -> dict[str, Any]:
+    """What report.json holds: the report's keys and ``nodes``, each node's statistics
+    (:func:`~.attribution.node_rows`: steps, failed certificates by cause, mean step time)."""
+    return {**dict(report), "nodes": node_rows(plan, episodes, str(report.get("behavior", "")))}
 
 
 def write_report_dir(out_dir: Path, report: dict[str, Any], episodes: list[dict[str, Any]],
@@ -39,7 +47,8 @@ def write_report_dir(out_dir: Path, report: dict[str, Any], episodes: list[dict[
         write_atomic(path, content)
         written.append(path)
 
-    put(out_dir / "report.json", json.dumps(dict(report), indent=2, default=str) + "\n")
+    put(out_dir / "report.json",
+        json.dumps(report_data(report, episodes, plan), indent=2, default=str) + "\n")
     for fig in document.figures():
         put(out_dir / markdown.FIGURE_DIR / fig.name, fig.png)
     put(out_dir / "report.md", markdown.render(document))

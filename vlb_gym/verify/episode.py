@@ -51,13 +51,13 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def step_record(info: dict[str, Any], node: str | None) -> Step:
-    """The stored record of one step's ``info``."""
+def step_record(info: dict[str, Any], node: str | None, seconds: float) -> Step:
+    """The stored record of one step's ``info`` that took ``seconds``."""
     held = bool(info["certificate"])
     return {"primitive": info["primitive"], "node": node, "param": _plain(info["param"]),
             "certificate": held,
             "reason": None if held else str(info.get("reason", "certificate failed")),
-            "cause": None if held else certificate_cause(info)}
+            "cause": None if held else certificate_cause(info), "seconds": seconds}
 
 
 def interrupted(exc: BaseException) -> bool:
@@ -83,20 +83,25 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
     reset and with every step's info after the step.
     """
     episode = PolicyEpisode(env, policy, stop_on_failure, max_primitives)
-    started = time.perf_counter()
+    started = last = time.perf_counter()
     steps: list[Step] = []
     start: dict[str, Any] = {}
     error = None
 
     def begin(info: dict[str, Any]) -> None:
+        nonlocal last
         start.update(_plain(info))  # the sampled start, as reset reported it
         if on_step is not None:
             on_step(None)
+        last = time.perf_counter()
 
     def record(info: dict[str, Any], state: Any) -> None:
-        steps.append(step_record(info, state if isinstance(state, str) else None))
+        nonlocal last
+        now = time.perf_counter()
+        steps.append(step_record(info, state if isinstance(state, str) else None, now - last))
         if on_step is not None:
             on_step(info)
+        last = time.perf_counter()
 
     try:
         episode.reset(seed=seed, on_reset=begin)

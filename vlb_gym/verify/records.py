@@ -23,6 +23,9 @@ from .policies import PolicyRef
 
 STRICT = ConfigDict(strict=True, extra="forbid")
 MAX_EPISODE_SECONDS = 365 * 24 * 3600.0  # an episode's recorded time: more is a corrupt record
+Seconds = Annotated[float, Field(ge=0, le=MAX_EPISODE_SECONDS, allow_inf_nan=False)]
+"""A recorded wall time: finite, and at most a year (so that any number of them sums to a
+finite total)."""
 
 
 def _representable(level: float) -> float:
@@ -152,7 +155,8 @@ def _behaviors_valid(plan: Plan) -> None:
 @with_config(STRICT)
 class Step(TypedDict):
     """One primitive run of an episode (``reason`` and ``cause`` are None where the
-    certificate held)."""
+    certificate held; ``seconds``, the wall time of the policy's decision and the env's step,
+    is None in records written before store and export format 2)."""
 
     primitive: str
     node: str | None
@@ -160,9 +164,11 @@ class Step(TypedDict):
     certificate: bool
     reason: str | None
     cause: str | None
+    seconds: Seconds | None
 
 
 STEP_KEYS = tuple(Step.__annotations__)
+_UNTIMED_KEYS = STEP_KEYS[:-1]  # a step's keys in format 1, which recorded no time
 
 
 def _plus_or_minus_one(rho: int) -> int:
@@ -171,12 +177,24 @@ def _plus_or_minus_one(rho: int) -> int:
     return rho
 
 
-def _step_dicts(steps: list[list[Any]]) -> Any:
-    """Steps as a store holds them (each a list of its :data:`STEP_KEYS` values, half the size
-    of the dicts: :func:`_stored_episode` checked that) as dicts; a list of another length is
-    left to fail validation."""
-    return tuple(dict(zip(STEP_KEYS, step)) if len(step) == len(STEP_KEYS) else step
-                 for step in steps)
+def _step_dict(step: Any) -> Any:
+    """One step as a dict: a store's list of its :data:`STEP_KEYS` values (half the size of the
+    dict), and a format-1 step (no ``seconds``: a list one shorter, or a dict without the key)
+    with ``seconds`` None; anything else is left to fail validation."""
+    if isinstance(step, list):
+        if len(step) == len(STEP_KEYS):
+            return dict(zip(STEP_KEYS, step))
+        if len(step) == len(_UNTIMED_KEYS):
+            return {**dict(zip(_UNTIMED_KEYS, step)), "seconds": None}
+    elif isinstance(step, dict) and "seconds" not in step and set(step) == set(_UNTIMED_KEYS):
+        return {**step, "seconds": None}
+    return step
+
+
+def _step_dicts(steps: Any) -> Any:
+    """Steps as dicts (:func:`_step_dict`)."""
+    return tuple(_step_dict(step) for step in steps) if isinstance(steps, (list, tuple)) \
+        else steps
 
 
 @with_config(STRICT)
@@ -196,9 +214,7 @@ class EpisodeResult:
     primitives: Count
     failed_certificates: Count
     reason: str | None
-    # an episode's own time: finite, and at most a year (so that any number of them sums to a
-    # finite total)
-    seconds: Annotated[float, Field(ge=0, le=MAX_EPISODE_SECONDS, allow_inf_nan=False)]
+    seconds: Seconds  # the episode's own wall time
     cause: str | None = None  # the failure's class, for grouping (see failure_cause)
     steps: Annotated[tuple[Step, ...], BeforeValidator(_step_dicts)] = ()
     start: dict[str, Any] = field(default_factory=dict)
@@ -218,7 +234,7 @@ class EpisodeResult:
     def from_dict(cls, record: dict[str, Any]) -> EpisodeResult:
         """The result a :meth:`to_dict` record (or its JSON) holds; unknown keys are ignored."""
         known = {k: v for k, v in record.items() if k in _FIELDS}
-        known["steps"] = tuple(known.get("steps", ()))
+        known["steps"] = _step_dicts(tuple(known.get("steps", ())))
         return cls(**known)
 
     def stored(self) -> dict[str, Any]:
@@ -227,14 +243,18 @@ class EpisodeResult:
         record["steps"] = [[step[key] for key in STEP_KEYS] for step in self.steps]
         return record
 
+    def outcome(self) -> dict[str, Any]:
+        """The record without what differs when the same episode runs again: its and its
+        steps' wall times and the traceback (whose file paths are the machine's)."""
+        record = {k: v for k, v in self.to_dict().items() if k not in ("seconds", "error")}
+        record["steps"] = [{k: v for k, v in step.items() if k != "seconds"}
+                           for step in self.steps]
+        record["raised"] = self.error is not None
+        return record
+
     def same_outcome(self, other: EpisodeResult) -> bool:
-        """Whether ``other`` is this episode again: everything but the wall time and the
-        traceback's file paths."""
-        ignore = {"seconds", "error"}
-        mine, theirs = self.to_dict(), other.to_dict()
-        return ({k: v for k, v in mine.items() if k not in ignore}
-                == {k: v for k, v in theirs.items() if k not in ignore}
-                and (self.error is None) == (other.error is None))
+        """Whether ``other`` is this episode again (:meth:`outcome`)."""
+        return self.outcome() == other.outcome()
 
 
 _FIELD_NAMES = tuple(f.name for f in dataclasses.fields(EpisodeResult))

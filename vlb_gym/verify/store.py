@@ -95,9 +95,10 @@ class CampaignStore:
         self.db.execute("PRAGMA synchronous=NORMAL")
         # checkpoints (which fsync) every 32 MiB of log rather than SQLite's 4 MiB
         self.db.execute("PRAGMA wal_autocheckpoint=8192")
+        # the format: a store resumed from an earlier one holds records of this one from now
+        self.db.execute(f"PRAGMA user_version={CURRENT['store']}")
         if fresh:
             self.db.execute(f"PRAGMA application_id={self.application_id}")
-            self.db.execute(f"PRAGMA user_version={CURRENT['store']}")  # the format
             self.db.execute("CREATE TABLE IF NOT EXISTS plan "
                             "(id INTEGER PRIMARY KEY CHECK (id = 1), plan TEXT NOT NULL)")
             self.db.execute("CREATE TABLE IF NOT EXISTS episodes (idx INTEGER PRIMARY KEY, "

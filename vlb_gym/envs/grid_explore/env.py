@@ -183,14 +183,26 @@ beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
         if self.render_mode is None:
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
-        return render_rgb(self.state)
+        return render_rgb(self.state, failed_cell=self._failed_cell())
+
+    def _failed_cell(self) -> tuple[int, int] | None:
+        """The cell the last step was sent to, if its certificate failed."""
+        outcome = self.last_outcome
+        if outcome is None or outcome.certificate:
+            return None
+        try:  # a behavior may have sent anything: an inadmissible one is not a cell
+            i, j = (int(k) for k in outcome.param)
+        except (TypeError, ValueError, OverflowError):
+            return None
+        return i, j
 
     def frame_key(self) -> FrameKey:
         return FrameKey((("obstacle", viewer.OBSTACLE), ("goal, not yet sensed", viewer.GOAL),
                          ("explored (labelled by sense)", viewer.EXPLORED),
                          ("goal, sensed", viewer.EXPLORED_GOAL),
                          ("agent; outline: start cell", viewer.AGENT),
-                         ("trail of the agent's moves", viewer.TRAIL)), self.size)
+                         ("trail of the agent's moves", viewer.TRAIL),
+                         ("cell a failed step was sent to", viewer.FAILED)), self.size)
 
     def sampling_distribution(self) -> str:
         half = self.size / 2
