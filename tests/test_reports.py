@@ -174,6 +174,7 @@ def test_html_in_a_real_browser(campaign, tmp_path):
     assert {"graph-0.png", "graph-1.png", "confidence.png", "episodes.png"} <= names
     assert any(name.startswith("frames-") for name in names)
     assert all(complete and width > 0 for _, complete, width in images), images
+    assert "no picture" not in body and "what it runs" in body  # every picture; the node table
     assert f"at least {floor5(report['lower_bound'])}" in body
     assert [(r[0], int(r[1])) for r in rows] == [(g["cause"], g["count"])
                                                  for g in report["failures_by_cause"]]
