@@ -309,7 +309,7 @@ def test_ray_missing_says_what_to_install(monkeypatch):
 
 
 def test_backends_listed():
-    assert BACKENDS == ("serial", "process", "ray")
+    assert tuple(BACKENDS) == ("serial", "process", "ray")
 
 
 @pytest.mark.parametrize("backend, workers", [("serial", 1), ("process", 2)])
@@ -350,5 +350,5 @@ def test_a_campaign_keeps_no_list_of_its_indices():
     with Campaign(CampaignConfig("VLB-GridExplore-v0", "explore_until_goal", 10 ** 15,
                                  method="sequential")) as campaign:
         with pytest.raises(KeyboardInterrupt):
-            campaign.run(on_episode=stop_after_three)
+            campaign.run(on_result=stop_after_three)
     assert [r.index for r in seen] == [0, 1, 2]

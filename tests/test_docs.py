@@ -52,3 +52,20 @@ def test_every_page_is_in_the_navigation_and_the_readme_is_short():
     pages = sorted(p.name for p in (ROOT / "docs").glob("*.md"))
     assert [p for p in pages if p not in nav] == []
     assert len((ROOT / "README.md").read_text().splitlines()) <= 250
+
+
+def test_the_public_api_table_is_each_packages_all():
+    """docs/python.md's table of what to import lists exactly each package's ``__all__``, and
+    every name there imports."""
+    import importlib
+
+    text = (ROOT / "docs" / "python.md").read_text()
+    rows = re.findall(r"^\| `(vlb_gym[\w.]*)` \| [^\n]*\| ([^|\n]+) \|$", text, re.MULTILINE)
+    assert {module for module, _ in rows} == {"vlb_gym", "vlb_gym.wrappers", "vlb_gym.verify",
+                                              "vlb_gym.core"}
+    for module, names in rows:
+        package = importlib.import_module(module)
+        listed = set(re.findall(r"`([\w]+)`", names))
+        assert listed == set(package.__all__), module
+        for name in listed:
+            assert getattr(package, name) is not None, f"{module}.{name}"

@@ -13,7 +13,8 @@ from scipy.stats import beta, binom
 
 from vlb_gym.verify import bounds
 from vlb_gym.verify.campaign import CampaignConfig, report_from_store, run_campaign
-from vlb_gym.verify.methods import METHODS, FixedN, Method, Sequential, method_named
+from vlb_gym.cli import main
+from vlb_gym.verify.methods import METHODS, FixedN, Method, Sequential, method_named, register
 from vlb_gym.verify.report import Report
 from vlb_gym.verify.store import CampaignStore, StoreError
 
@@ -48,11 +49,12 @@ class UntilFailures(Method):
 
 @pytest.fixture
 def toy(monkeypatch):
-    monkeypatch.setitem(METHODS, UntilFailures.name, UntilFailures)
+    monkeypatch.setitem(METHODS, UntilFailures.name, None)  # removed again after the test
+    assert register(UntilFailures) is UntilFailures
     return UntilFailures
 
 
-def test_a_third_method_plugs_in_and_rebuilds_from_its_store(toy, tmp_path):
+def test_a_third_method_plugs_in_and_rebuilds_from_its_store(toy, tmp_path, capsys):
     config = CampaignConfig(GRID, FIXED_CELL, method=toy.name)
     assert config.episodes == 50  # the method's default N
     store = CampaignStore(tmp_path / "toy.db")
@@ -67,6 +69,20 @@ def test_a_third_method_plugs_in_and_rebuilds_from_its_store(toy, tmp_path):
     rebuilt = report_from_store(CampaignStore(tmp_path / "toy.db", readonly=True))
     for key in ("episodes", "failures", "statement", "failed_episodes", "complete"):
         assert rebuilt[key] == report[key], key
+    with sqlite3.connect(tmp_path / "toy.db") as db:  # keep the first two: resume the rest
+        db.execute("DELETE FROM episodes WHERE idx >= 2")
+    store = CampaignStore(tmp_path / "toy.db")
+    try:
+        resumed = run_campaign(config, store=store)
+    finally:
+        store.close()
+    for key in ("episodes", "failures", "statement", "failed_episodes", "complete"):
+        assert resumed[key] == report[key], key
+    # the CLI and the report folder speak of it in its own words, told nothing about it
+    assert main(["report", str(tmp_path / "toy.db"), "--out", str(tmp_path / "out")]) == 0
+    assert report["statement"] in (tmp_path / "out" / "report.md").read_text()
+    assert main(["report", str(tmp_path / "toy.db")]) == 0
+    assert f"  TOY: {report['statement']}" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("n, k", [(59, 0), (100, 3), (7, 7)])

@@ -45,7 +45,7 @@ def campaign(tmp_path_factory):
                             env_kwargs={"action_noise": 2.3})
     results = []
     with Campaign(config) as prepared:
-        report = dict(prepared.run(on_episode=results.append))
+        report = dict(prepared.run(on_result=results.append))
         plan = prepared.plan
     episodes = [r.to_dict() for r in sorted(results, key=lambda r: r.index)]
     assert 0 < report["failures"] < report["episodes"]
@@ -253,7 +253,7 @@ def test_sequential_report(tmp_path):
                             env_kwargs={"action_noise": 2.3})
     results: list = []
     with Campaign(dataclasses.replace(config, episodes=40, method="sequential")) as prepared:
-        report = dict(prepared.run(on_episode=results.append))
+        report = dict(prepared.run(on_result=results.append))
         plan = prepared.plan
     write_report_dir(tmp_path, report, [r.to_dict() for r in results], plan)
     text = (tmp_path / "report.md").read_text()

@@ -39,10 +39,8 @@ for _id, _entry_point, _steps in ENVS + RL_TASKS:
     if _id not in registry:
         register(id=_id, entry_point=_entry_point, max_episode_steps=_steps)
 
-__all__ = ["ENV_IDS", "ENVS", "RL_TASKS", "BehaviorAgent", "BehaviorFinished", "BehaviorPolicy",
-           "BehaviorSpecError", "RobustnessWrapper", "UserError", "load_behavior",
-           "shipped_behaviors", "__version__"]
-__getattr__, __dir__ = lazy_names(__name__, globals(), {
+__getattr__, __dir__, _lazy = lazy_names(__name__, globals(), {
     ".core": ("BehaviorPolicy", "BehaviorSpecError", "load_behavior", "shipped_behaviors"),
     ".core.errors": ("UserError",),
     ".wrappers": ("BehaviorAgent", "BehaviorFinished", "RobustnessWrapper")})
+__all__ = ["ENV_IDS", "ENVS", "RL_TASKS", "__version__", *_lazy]

@@ -10,10 +10,11 @@ from typing import Any
 
 
 def lazy_names(package: str, namespace: dict[str, Any], modules: Mapping[str, tuple[str, ...]]
-               ) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
-    """A module's ``__getattr__`` and ``__dir__`` serving each name of ``modules`` (relative
-    module -> names) from its module, imported on first use and then kept in ``namespace``;
-    a submodule's name imports it, as an eager ``__init__`` would have (``package.store``)."""
+               ) -> tuple[Callable[[str], Any], Callable[[], list[str]], list[str]]:
+    """A module's ``__getattr__``, ``__dir__`` and ``__all__`` (the names of ``modules``, where
+    they are written once) serving each name of ``modules`` (relative module -> names) from its
+    module, imported on first use and then kept in ``namespace``; a submodule's name imports it,
+    as an eager ``__init__`` would have (``package.store``)."""
     lazy = {name: module for module, names in modules.items() for name in names}
 
     def getattr_(name: str) -> Any:
@@ -28,4 +29,4 @@ def lazy_names(package: str, namespace: dict[str, Any], modules: Mapping[str, tu
     def dir_() -> list[str]:
         return sorted({*namespace, *lazy})
 
-    return getattr_, dir_
+    return getattr_, dir_, sorted(lazy)

@@ -1,6 +1,7 @@
 """Each contestant of the comparison against the task's hand-written graph on the same reset
 seeds: rows keep their failed episodes, so episode ``i`` of one pairs with episode ``i`` of the
-other, and McNemar's exact test (:mod:`vlb_gym.verify.paired`) says what the pairs support."""
+other, and the fixed-N paired method of ``vlb compare`` (McNemar's exact test, each way:
+:class:`~vlb_gym.verify.paired_methods.FixedPairs`) says what the pairs support."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from vlb_gym.verify.bounds import ceil_str
-from vlb_gym.verify.paired import PairCounts, mcnemar_p
+from vlb_gym.verify.paired_methods import FixedPairs
 
 from .configs import DELTA
 
@@ -24,10 +25,10 @@ def paired(graph: Row, row: Row) -> dict:
         raise ValueError(f"{row.contestant} and {graph.contestant} did not run the same episodes")
     graph_failed, row_failed = set(graph.failed), set(row.failed)
     only_graph, only_row = len(row_failed - graph_failed), len(graph_failed - row_failed)
-    neither = len(graph_failed & row_failed)
-    both = row.episodes - only_graph - only_row - neither
-    graph_better = mcnemar_p(PairCounts(both, only_row, only_graph, neither))
-    row_better = mcnemar_p(PairCounts(both, only_graph, only_row, neither))
+    test = FixedPairs(0.0, DELTA, row.episodes)  # A: the graph, B: the contestant
+    test.feed((i not in graph_failed, i not in row_failed) for i in range(row.episodes))
+    claim = test.claim()
+    row_better, graph_better = claim["p_value"], claim["p_value_against"]
     if graph_better <= DELTA:
         verdict = f"graph more reliable (p = {ceil_str(graph_better, 3)})"
     elif row_better <= DELTA:

@@ -49,6 +49,7 @@ class RandomLoader:
     """Policy kind ``random``: the only reference is ``admissible``."""
 
     runs_code = False
+    replay_options = None  # vlb replay names behaviors and agents only
 
     def load(self, ref, env: gym.Env) -> RandomAdmissible:
         if ref.ref != REFERENCE:

@@ -137,7 +137,7 @@ SAMPLING_STREAM = 0x5A4D  # spawn key of a sampled agent's draws, apart from the
 
 
 class SB3Policy:
-    """A trained agent behind the :class:`~vlb_gym.verify.episode.Policy` interface.
+    """A trained agent behind the :class:`~vlb_gym.verify.policies.Policy` interface.
 
     It never "finishes" by itself: episodes end when the task terminates them (finished) or at
     the step bound (not finished), exactly as rho_B is defined for any policy. It takes the most
@@ -252,6 +252,7 @@ class SB3Loader:
 
     sample = False
     runs_code = True  # loading unpickles the zip
+    replay_options: tuple[str, ...] = ("--policy",)
 
     def load(self, ref, env: gym.Env) -> SB3Policy:
         return SB3Policy(ref.ref, env, self.sample)
@@ -275,3 +276,4 @@ class SampledSB3Loader(SB3Loader):
     """Policy kind ``sb3_sampled``: trained agents that draw their actions."""
 
     sample = True
+    replay_options = ("--sample", "--policy")

@@ -239,11 +239,40 @@ def clamp_workers(requested: int, episodes: int, command: str, option: str = "--
     return workers
 
 
+def add_run_options(p: argparse.ArgumentParser, unit: str, study: str) -> None:
+    """What every command that runs a study (:class:`~vlb_gym.verify.engine.Study`) takes:
+    ``--workers``, ``--store``, the backend's options, ``--keep-going``, ``--quiet`` and
+    ``--env-kwarg``; ``unit`` is what it runs ("episode", "pair"), ``study`` what it is
+    ("campaign", "comparison")."""
+    p.add_argument("--workers", type=count(1), default=1, metavar="N",
+                   help=f"worker processes, at most one per CPU and per {unit} (Ray: actors, "
+                   "at most one per free CPU of the cluster)")
+    p.add_argument("--store", metavar="PATH",
+                   help=f"keep every {unit} in this SQLite store as it finishes; an existing "
+                   f"store of the same {study} is resumed ({unit}s stored are not run again)")
+    add_backend_options(p, f"{unit}s")
+    p.add_argument("--keep-going", action="store_true",
+                   help="run each episode to its end even after a certificate failed")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_env_kwarg(p)
+
+
+def backend_name(name: str) -> str:
+    """A registered backend's name (the registry is read when the option is, not before)."""
+    from vlb_gym.verify.backends import BACKENDS
+
+    if name not in BACKENDS:
+        raise argparse.ArgumentTypeError(f"{name!r} is no backend (one of "
+                                         f"{', '.join(BACKENDS)})")
+    return name
+
+
 def add_backend_options(p: argparse.ArgumentParser, items: str) -> None:
     """``--backend``, ``--ray-address`` and ``--ray-timeout``."""
-    p.add_argument("--backend", choices=["serial", "process", "ray"], default="process",
-                   help=f"where {items} run: this process, worker processes on this machine, "
-                   "or Ray actors (extra 'ray'; see docs/ray.md); results are identical "
+    p.add_argument("--backend", type=backend_name, default="process", metavar="BACKEND",
+                   help=f"where {items} run: serial (this process), process (worker processes "
+                   "on this machine), ray (Ray actors: extra 'ray', see docs/ray.md), or one a "
+                   "module registered (docs/architecture.md); results are identical "
                    "whatever the backend")
     p.add_argument("--ray-address", metavar="ADDRESS",
                    help="with --backend ray: an existing cluster, HOST:PORT of its head (GCS), "

@@ -7,7 +7,7 @@ import sys
 
 from vlb_gym.core.files import write_atomic
 
-from .common import (UsageError, add_backend_options, add_env_kwarg, check_output,
+from .common import (UsageError, add_run_options, check_output,
                      clamp_workers, comparison_level, count, env_kwargs, env_modules,
                      fraction_below_one, named_policy, ray_options)
 from .verify import backend_failed, check_run_args, open_store, progress
@@ -114,16 +114,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         c.add_argument(f"--{name}-sample", action="store_true",
                        help=f"{name.upper()} is an agent: draw its actions from its "
                        "distribution, seeded by each episode's seed")
-    c.add_argument("--workers", type=count(1), default=1, metavar="N",
-                   help="worker processes, at most one per CPU and per pair")
-    c.add_argument("--report", metavar="PATH", help="write the JSON report here when done "
-                   "(replacing the file, atomically, if it exists)")
-    c.add_argument("--store", metavar="PATH",
-                   help="keep every pair in this SQLite store as it finishes; an existing store "
-                   "of the same comparison is resumed")
-    add_backend_options(c, "pairs")
-    c.add_argument("--keep-going", action="store_true",
-                   help="run each episode to its end even after a certificate failed")
-    c.add_argument("--quiet", action="store_true", help="no progress bar")
-    add_env_kwarg(c)
+    c.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
+                   "comparison is done (replacing the file, atomically, if it exists)")
+    add_run_options(c, "pair", "comparison")
     c.set_defaults(func=cmd_compare)

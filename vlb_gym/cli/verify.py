@@ -10,7 +10,7 @@ from pathlib import Path
 
 from vlb_gym.core.files import write_atomic
 
-from .common import (UsageError, add_backend_options, add_env_kwarg, check_output,
+from .common import (UsageError, add_run_options, check_output,
                      clamp_workers, count, env_kwargs, env_modules, level, policy_ref,
                      probability, ray_options)
 
@@ -256,23 +256,13 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="lower bound at confidence level 1 - DELTA")
     v.add_argument("--seed", type=count(0), default=0,
                    help="campaign seed: the episodes' reset seeds derive from it")
-    v.add_argument("--workers", type=count(1), default=1, metavar="N",
-                   help="worker processes, at most one per CPU and per episode (Ray: actors, "
-                   "at most one per free CPU of the cluster)")
     v.add_argument("--report", metavar="PATH", help="write the JSON report here when the "
                    "campaign is done (replacing the file, atomically, if it exists)")
     v.add_argument("--episodes-out", metavar="PATH",
                    help="stream one JSON line per episode here as episodes finish; kept if the "
                    "campaign is interrupted (Ctrl-C: exit code 130)")
     v.add_argument("--force", action="store_true", help="replace an existing --episodes-out")
-    v.add_argument("--store", metavar="PATH",
-                   help="keep every episode in this SQLite store as it finishes; an existing "
-                   "store of the same campaign is resumed (episodes stored are not run again)")
-    add_backend_options(v, "episodes")
-    v.add_argument("--keep-going", action="store_true",
-                   help="run each episode to its end even after a certificate failed")
-    v.add_argument("--quiet", action="store_true", help="no progress bar")
-    add_env_kwarg(v)
+    add_run_options(v, "episode", "campaign")
     v.set_defaults(func=cmd_verify)
 
     p = sub.add_parser("plan", help="print the number of episodes a guarantee needs",

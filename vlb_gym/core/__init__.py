@@ -12,23 +12,23 @@ from vlb_gym._lazy import lazy_names
 
 if TYPE_CHECKING:
     from .compiler import CompiledBehavior, compile_behavior
+    from .env import FrameKey, PrimitiveEnv
     from .expressions import ExpressionError
+    from .helpers import Helpers, Judge, helper
     from .library import compile_for, load_behavior, shipped_behaviors
     from .primitive import ControllerFailure, Failure, MotionPrimitive, Outcome, execute
     from .runtime import BehaviorPolicy, BehaviorRuntimeError
+    from .search_space import SearchSpace
     from .spec import BehaviorSpec, BehaviorSpecError, json_schema, parse_spec
 
-__all__ = ["BehaviorPolicy", "BehaviorRuntimeError", "BehaviorSpec", "BehaviorSpecError",
-           "CompiledBehavior", "ControllerFailure", "ExpressionError", "Failure",
-           "MotionPrimitive", "Outcome",
-           "compile_behavior", "compile_for", "execute", "json_schema",
-           "load_behavior", "parse_spec", "shipped_behaviors"]
-
-__getattr__, __dir__ = lazy_names(__name__, globals(), {
+__getattr__, __dir__, __all__ = lazy_names(__name__, globals(), {
     ".compiler": ("CompiledBehavior", "compile_behavior"),
+    ".env": ("FrameKey", "PrimitiveEnv"),
     ".expressions": ("ExpressionError",),
+    ".helpers": ("Helpers", "Judge", "helper"),
     ".library": ("compile_for", "load_behavior", "shipped_behaviors"),
     ".primitive": ("ControllerFailure", "Failure", "MotionPrimitive", "Outcome", "execute"),
     ".runtime": ("BehaviorPolicy", "BehaviorRuntimeError"),
+    ".search_space": ("SearchSpace",),
     ".spec": ("BehaviorSpec", "BehaviorSpecError", "json_schema", "parse_spec"),
 })

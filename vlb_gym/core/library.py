@@ -186,6 +186,7 @@ class BehaviorLoader:
     in ``ref.library`` (default: the user's library), or a JSON file."""
 
     runs_code = False  # a behavior file is data, checked before anything runs
+    replay_options = ("--behavior",)
 
     def load(self, ref, env: gym.Env) -> BehaviorPolicy:
         library = BehaviorLibrary(Path(ref.library)) if ref.library else None

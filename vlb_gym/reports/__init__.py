@@ -3,7 +3,7 @@ report.html (the claim in words, the numbers, failures by cause with replay comm
 behavior graph coloured by failed certificates, confidence against eps, per-episode charts,
 frames and provenance).
 
-Modules: :mod:`.content` decides what the report says, as blocks of :mod:`.document`;
+Modules: :mod:`.content` decides what the report says, as blocks of :mod:`vlb_gym.core.document` (which the statistical methods also write their paragraphs in);
 :mod:`.markdown` and :mod:`.html` render them; :mod:`.graph`, :mod:`.plots` and :mod:`.png` make
 the pictures; :mod:`.attribution` counts failed certificates per node; :mod:`.writer` writes
 the folder.

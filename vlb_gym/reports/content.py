@@ -4,19 +4,18 @@ from __future__ import annotations
 
 import json
 import shlex
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+from vlb_gym.core.document import (Block, Code, Document, Figure, Gallery, Heading, Inline,
+                                   Paragraph, Preformatted, Strong, Table, short)
 from vlb_gym.core.env import FrameKey
 from vlb_gym.verify import bounds
 from vlb_gym.verify.methods import method_named
 from vlb_gym.verify.records import Plan
 
 from . import attribution, graph, plots
-from .document import (Block, Code, Document, Figure, Gallery, Heading, Inline, Paragraph,
-                       Preformatted, Strong, Table, short)
 from .png import encode_png, pick, thumbnail
 
 MAX_FAILED_ROWS = 25
@@ -44,88 +43,18 @@ def subject(report: dict[str, Any]) -> list[Inline]:
 
 def claim_blocks(report: dict[str, Any]) -> list[Block]:
     """Section 1: the guarantee in words, bounds rounded down, as the campaign's statistical
-    method states it (:data:`CLAIMS`)."""
+    method states it (its ``paragraphs``)."""
     where: list[Inline] = ["For start/environment pairs drawn from the sampling distribution (",
                            str(report.get("sampling_distribution", "not recorded")), "), ",
                            *subject(report)]
-    claim = CLAIMS.get(report["mode"], _stated_claim)
-    blocks: list[Block] = [Heading(2, "The claim"), *claim(report, where)]
+    blocks: list[Block] = [Heading(2, "The claim"),
+                           *method_named(report["mode"]).paragraphs(report, where)]
     n, planned = report["episodes"], report.get("planned_episodes")
     if planned is not None and planned != n:
         blocks.append(Paragraph([Strong("Incomplete campaign: "),
                                  f"{n} of {planned} planned episodes were stored; the figures "
                                  "describe those only."]))
     return blocks
-
-
-def _stated_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:
-    """A method without paragraphs of its own: its statement."""
-    return [Paragraph([*where, ": ", str(report["statement"]), "."])]
-
-
-def _fixed_n_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:
-    if not report["complete"]:  # a part of a fixed-N campaign certifies nothing
-        return [Paragraph([Strong("No guarantee: "), str(report["statement"]), "."])]
-    claim, level = bounds.one_minus_str(report["epsilon"]), bounds.one_minus_str(report["delta"])
-    conf, low, delta = report["confidence"], report["lower_bound"], report["delta"]
-    return [
-        Paragraph([*where, " succeeds with probability at least ", Strong(claim),
-                   ", with confidence ", Strong(bounds.floor_str(conf)), "."]),
-        Paragraph(["At confidence level ", Strong(level), " (delta = ", f"{delta:g}",
-                   "), its probability of success is at least ", Strong(bounds.floor_str(low)),
-                   f" (one-sided Clopper–Pearson lower bound from N = {report['episodes']} "
-                   f"episodes with k = {report['failures']} failures)."]),
-        Paragraph(["Target confidence ", level, ": ",
-                   Strong("met" if conf >= 1.0 - delta else "not met"),
-                   ". N was fixed before the campaign; bounds are rounded down; the guarantee "
-                   "holds for this sampling distribution only."])]
-
-
-def _sequential_claim(report: dict[str, Any], where: list[Inline]) -> list[Block]:
-    claim, level = bounds.one_minus_str(report["epsilon"]), bounds.one_minus_str(report["delta"])
-    decision = str(report.get("decision", "undecided"))
-    low, high = report["lower_bound"], report.get("upper_bound", 1.0)
-    stopped = report.get("stopped_at")
-    stop_words = (f"stopped after {stopped} episodes" if stopped is not None else
-                  "no decision within the cap of "
-                  f"{report.get('max_episodes', report['episodes'])} episodes")
-    verb = {"certified": [" succeeds with probability at least ", Strong(claim), ": certified"],
-            "refuted": [" succeeds with probability below ", Strong(claim), ": refuted"]}
-    blocks: list[Block] = [
-        Paragraph([*where, *verb.get(decision, [" has no certified probability of success at ",
-                                                Strong(claim), ": undecided, nothing is "
-                                                "certified"]),
-                   f" at level {level} by an anytime-valid sequential test ({stop_words})."]),
-        Paragraph(["Decision: ", Strong(decision), ". Anytime-valid confidence interval at "
-                   f"level {level}, simultaneously for all n: P[success] in [",
-                   Strong(bounds.floor_str(low)), ", ", Strong(bounds.ceil_str(high)),
-                   "]; confidence in the claim: ",
-                   Strong(bounds.floor_str(report["confidence"])), "."]),
-        Paragraph(["Test: ", str(report.get("test", "?")), ". Guarantee: ",
-                   str(report.get("guarantee", "?"))])]
-    fixed = report.get("fixed_n_description") or {}
-    if fixed:
-        blocks.append(Paragraph([
-            "Clopper–Pearson figures of these episodes, for description only: confidence ",
-            bounds.floor_str(fixed.get("confidence", 0.0)), ", lower bound ",
-            bounds.floor_str(fixed.get("lower_bound", 0.0)), ". ", str(fixed.get("note", ""))]))
-    return blocks
-
-
-def _sequential_rows(report: dict[str, Any]) -> list[list[Any]]:
-    return [["upper bound on P[success] (anytime-valid)",
-             bounds.ceil_str(report.get("upper_bound", 1.0))],
-            ["decision", str(report.get("decision"))],
-            ["stopped at", str(report.get("stopped_at"))],
-            ["cap (max episodes)", str(report.get("max_episodes"))]]
-
-
-#: How each statistical method (:data:`vlb_gym.verify.methods.METHODS`) states its claim in a
-#: report, and the rows it adds to the numbers.
-CLAIMS: dict[str, Callable[[dict[str, Any], list[Inline]], list[Block]]] = {
-    "fixed-N": _fixed_n_claim, "sequential": _sequential_claim}
-METHOD_ROWS: dict[str, Callable[[dict[str, Any]], list[list[Any]]]] = {
-    "sequential": _sequential_rows}
 
 
 def numbers_table(report: dict[str, Any]) -> list[Block]:
@@ -140,7 +69,7 @@ def numbers_table(report: dict[str, Any]) -> list[Block]:
         ["delta (level 1 - delta)", f"{report['delta']:g}"],
         ["lower bound on P[success] at level 1 - delta", bounds.floor_str(report["lower_bound"])],
     ]
-    rows += METHOD_ROWS.get(report["mode"], lambda _: [])(report)
+    rows += method_named(report["mode"]).rows(report)
     rows += [
         ["seed", Code(str(report.get("seed")))],
         ["wall time (s)", f"{report.get('wall_seconds', 0.0):.2f}"],

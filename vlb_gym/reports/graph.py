@@ -13,8 +13,9 @@ import subprocess
 from collections.abc import Mapping
 from typing import Any
 
+from vlb_gym.core.document import short
+
 from .attribution import NodeStats, child_ref
-from .document import short
 
 DOT_TIMEOUT_S = 20.0
 NO_FAILURE = "#d9f0d3"

@@ -7,8 +7,8 @@ from __future__ import annotations
 import base64
 from html import escape
 
-from .document import (Block, Cell, Code, Document, Figure, Gallery, Heading, Inline, Paragraph,
-                       Preformatted, Strong, Table)
+from vlb_gym.core.document import (Block, Cell, Code, Document, Figure, Gallery, Heading, Inline,
+                                   Paragraph, Preformatted, Strong, Table)
 
 CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'"
 STYLE = """

@@ -7,10 +7,9 @@ from __future__ import annotations
 
 import re
 
+from vlb_gym.core.document import (Block, Cell, Code, Document, Figure, Gallery, Heading, Inline,
+                                   Paragraph, Preformatted, Strong, Table)
 from vlb_gym.core.text import escape_controls
-
-from .document import (Block, Cell, Code, Document, Figure, Gallery, Heading, Inline, Paragraph,
-                       Preformatted, Strong, Table)
 
 FIGURE_DIR = "figures"
 _SPECIAL = re.compile(r"([\\`*_\[\]|~])")

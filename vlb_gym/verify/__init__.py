@@ -11,22 +11,26 @@ from typing import TYPE_CHECKING
 from vlb_gym._lazy import lazy_names
 
 if TYPE_CHECKING:
+    from .backends import BACKENDS, register_backend
     from .bounds import confidence, lower_bound, min_episodes
-    from .campaign import Campaign, CampaignConfig, episode_seed, report_from_store, run_campaign
-    from .episode import EpisodeResult, run_episode
-    from .methods import METHODS, Method
+    from .campaign import Campaign, report_from_store, run_campaign
+    from .comparison import Comparison
+    from .engine import Study
+    from .episode import run_episode
+    from .methods import METHODS, REGISTRY, Method, register
+    from .paired_methods import PairedMethod
     from .policies import PolicyRef, register_policy_loader
+    from .records import CampaignConfig, ComparisonConfig, EpisodeResult, episode_seed
     from .report import Report
-    from .store import CampaignStore, StoreError
+    from .store import CampaignStore, ComparisonStore, StoreError
 
-__all__ = ["METHODS", "Campaign", "CampaignConfig", "CampaignStore", "EpisodeResult", "Method",
-           "PolicyRef", "Report", "StoreError", "confidence", "episode_seed", "lower_bound",
-           "min_episodes", "register_policy_loader", "report_from_store", "run_campaign",
-           "run_episode"]
-__getattr__, __dir__ = lazy_names(__name__, globals(), {
+__getattr__, __dir__, __all__ = lazy_names(__name__, globals(), {
+    ".backends": ("BACKENDS", "register_backend"),
     ".bounds": ("confidence", "lower_bound", "min_episodes"),
-    ".campaign": ("Campaign", "CampaignConfig", "episode_seed", "report_from_store",
-                  "run_campaign"),
-    ".episode": ("EpisodeResult", "run_episode"), ".methods": ("METHODS", "Method"),
+    ".campaign": ("Campaign", "report_from_store", "run_campaign"),
+    ".comparison": ("Comparison",), ".engine": ("Study",), ".episode": ("run_episode",),
+    ".methods": ("METHODS", "REGISTRY", "Method", "register"),
+    ".paired_methods": ("PairedMethod",),
     ".policies": ("PolicyRef", "register_policy_loader"),
-    ".report": ("Report",), ".store": ("CampaignStore", "StoreError")})
+    ".records": ("CampaignConfig", "ComparisonConfig", "EpisodeResult", "episode_seed"),
+    ".report": ("Report",), ".store": ("CampaignStore", "ComparisonStore", "StoreError")})

@@ -35,7 +35,21 @@ if TYPE_CHECKING:
 
 T = TypeVar("T")
 
-BACKENDS = ("serial", "process", "ray")
+Backend = Callable[..., Iterator[Any]]
+"""What runs a study's indices: ``backend(setup, indices, workers, preload, max_deaths, ray)``
+yields ``runner(i)`` for every ``i`` of ``indices`` as they finish, each worker building
+``runner = setup()`` once (see :func:`run_indices`)."""
+
+BACKENDS: dict[str, Backend] = {}
+"""Every backend, by the name ``--backend`` takes."""
+
+
+def register_backend(name: str) -> Callable[[Backend], Backend]:
+    """Make the decorated :data:`Backend` one a campaign can run on as ``name``."""
+    def add(backend: Backend) -> Backend:
+        BACKENDS[name] = backend
+        return backend
+    return add
 
 MAX_DEATHS = 3  # an index whose run killed its worker this many times fails the campaign
 IN_FLIGHT = 2  # chunks queued per worker: the next one is there when the current one ends
@@ -152,10 +166,26 @@ def run_indices(setup: Callable[[], Callable[[int], T]], indices: Sequence[int],
     check_main_guard()
     if not isinstance(indices, Sized):  # a generator: listed once
         indices = list(indices)
-    if backend == "serial":
-        return _serial(setup, indices)
-    if backend == "process":
-        return _process(setup, indices, workers, tuple(preload), max_deaths)
+    return BACKENDS[backend](setup, indices, workers, tuple(preload), max_deaths, ray)
+
+
+@register_backend("serial")
+def _on_serial(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], workers: int,
+               preload: tuple[str, ...], max_deaths: int, ray: RayOptions | None
+               ) -> Iterator[T]:
+    return _serial(setup, indices)
+
+
+@register_backend("process")
+def _on_processes(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], workers: int,
+                  preload: tuple[str, ...], max_deaths: int, ray: RayOptions | None
+                  ) -> Iterator[T]:
+    return _process(setup, indices, workers, preload, max_deaths)
+
+
+@register_backend("ray")
+def _on_ray(setup: Callable[[], Callable[[int], T]], indices: Sequence[int], workers: int,
+            preload: tuple[str, ...], max_deaths: int, ray: RayOptions | None) -> Iterator[T]:
     from .ray_backend import run_on_ray  # Ray's imports only for Ray
     from .ray_connect import RayOptions
 

@@ -15,73 +15,24 @@ from __future__ import annotations
 import dataclasses
 import functools
 import platform
-import time
 from collections.abc import Callable, Iterator, Sequence
-from pathlib import Path
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 from vlb_gym.core.formats import CURRENT
 
-from .campaign import (Campaign, CampaignConfig, Remaining, _in_process, episode_runner,
-                       feed_until_decided, lightened, open_store, preload, run_where,
-                       stored_prefix)
+from .campaign import Campaign, CampaignConfig, episode_runner, lightened
+from .engine import Study, run_where
 from .episode import EpisodeResult
 from .inputs import ShippedRunner
 from .paired import DEFAULT_MAX_PAIRS, claim_words
 from .paired_methods import FixedPairs, PairedMethod, paired_method_named
 from .policies import PolicyRef
 from .ray_connect import RayOptions
-from .records import ComparisonPlan, PairResult, Plan
+from .records import ComparisonConfig, ComparisonPlan, PairResult, Plan
 from .report import (JsonReport, failures_by_cause, one_line, replay_command, shown_path,
                      where_listed)
-from .store import ComparisonStore
-
-
-@dataclass(frozen=True)
-class ComparisonConfig:
-    """Everything that defines a comparison. ``a`` and ``b`` are policy references (a string
-    names a behavior); ``env_kwargs`` apply to both, ``a_env_kwargs``/``b_env_kwargs`` to one
-    (and win). ``method`` is ``"fixed-N"`` (all ``pairs`` run) or ``"sequential"`` (until the
-    anytime-valid test decides, ``pairs`` at most, by default :data:`DEFAULT_MAX_PAIRS`).
-    ``margin`` 0 tests "B is more reliable than A"; above 0, "B is at least as reliable as A
-    up to the margin"."""
-
-    env_id: str
-    a: PolicyRef | str
-    b: PolicyRef | str
-    pairs: int | None = None
-    margin: float = 0.0
-    alpha: float = 0.05
-    seed: int = 0
-    env_kwargs: dict[str, Any] = field(default_factory=dict)
-    a_env_kwargs: dict[str, Any] = field(default_factory=dict)
-    b_env_kwargs: dict[str, Any] = field(default_factory=dict)
-    stop_on_failure: bool = True
-    env_modules: tuple[str, ...] = ()
-    method: str = FixedPairs.name
-
-    def __post_init__(self) -> None:
-        for side in ("a", "b"):
-            if isinstance(getattr(self, side), str):
-                object.__setattr__(self, side, PolicyRef("behavior", getattr(self, side)))
-        object.__setattr__(self, "env_modules", tuple(self.env_modules))
-        method = paired_method_named(self.method)
-        if self.pairs is None:
-            if not method.stops_early:
-                raise ValueError("a fixed-N comparison needs its number of pairs")
-            object.__setattr__(self, "pairs", DEFAULT_MAX_PAIRS)
-        method(self.margin, self.alpha, self.pairs)  # checks margin, alpha and pairs
-        if not isinstance(self.seed, int) or self.seed < 0:
-            raise ValueError(f"seed must be a non-negative integer (got {self.seed!r})")
-
-    def side(self, name: str) -> CampaignConfig:
-        """Side ``"a"`` or ``"b"`` as a fixed-N campaign of ``pairs`` episodes, same seed."""
-        own = self.a_env_kwargs if name == "a" else self.b_env_kwargs
-        return CampaignConfig(self.env_id, getattr(self, name), self.pairs, seed=self.seed,
-                              env_kwargs={**self.env_kwargs, **own},
-                              stop_on_failure=self.stop_on_failure,
-                              env_modules=self.env_modules)
+from .store import CampaignStore, ComparisonStore
 
 
 def _side(config: ComparisonConfig, name: str) -> Campaign:
@@ -111,9 +62,13 @@ class ShippedPair:
         return pair_runner(self.a.config, self.b.config, (self.a.build(), self.b.build()))
 
 
-class Comparison:
+class Comparison(Study[PairResult]):
     """A comparison prepared once: both sides' campaigns (a bad file or agent fails here, before
-    any pair) and the :attr:`plan`. Close it when done (or use it as a context manager)."""
+    any pair) and the :attr:`plan`; its unit is a pair, run by the engine
+    (:class:`~.engine.Study`). Close it when done (or use it as a context manager)."""
+
+    store_kind: ClassVar[type[CampaignStore]] = ComparisonStore
+    unit = "pair"
 
     def __init__(self, config: ComparisonConfig):
         self.config = config
@@ -148,10 +103,6 @@ class Comparison:
             return ["sampling distributions (see the report)"]
         return []
 
-    def method(self) -> PairedMethod:
-        config = self.config
-        return paired_method_named(config.method)(config.margin, config.alpha, config.pairs)
-
     def pairs(self, indices: Sequence[int] | None = None, workers: int = 1,
               backend: str = "process", ray: RayOptions | None = None
               ) -> Iterator[PairResult]:
@@ -162,52 +113,39 @@ class Comparison:
         shipped = ShippedPair(*(ShippedRunner(side.config, side.inputs, episode_runner)
                                 for side in self.sides))
         return run_where(shipped, functools.partial(pair_runner, a.config, b.config, built),
-                         indices, workers, backend, ray,
-                         [*a.env.unwrapped.preload, *b.env.unwrapped.preload])
+                         indices, workers, backend, ray, self.preloads)
 
-    def open_store(self, path: str | Path) -> ComparisonStore:
-        """The store at ``path``, holding this comparison (see :func:`~.campaign.open_store`)."""
-        return open_store(ComparisonStore, path, self)
+    units = pairs
 
-    def stored(self, store: ComparisonStore) -> list[PairResult]:
-        """The pairs ``store`` holds, checked against what the method needs (StoreError)."""
-        return stored_prefix(store, paired_method_named(self.config.method))
+    @property
+    def planned(self) -> int:
+        return self.config.pairs
 
-    def run(self, workers: int = 1, on_pair: Callable[[PairResult], None] | None = None,
-            store: ComparisonStore | None = None, backend: str = "process",
-            ray: RayOptions | None = None) -> ComparisonReport:
-        """Run the comparison until its method decided (see :meth:`.Campaign.run`: the same
-        order, store and resume rules, with pairs for episodes) and return its report."""
-        if _in_process(workers, backend):
-            for side in self.sides:
-                preload(side.env.unwrapped.preload)
-        started = time.perf_counter()
-        method = self.method()
-        results: list[PairResult] = []
-        if store is not None:
-            store.start(self.plan)
-            stored = self.stored(store)
-            results = stored[:method.feed((r.a.success, r.b.success) for r in stored)]
-        resumed = len(results)
-        consumers = [f for f in (store.add if store is not None else None, on_pair) if f]
+    @property
+    def preloads(self) -> Sequence[str]:
+        return [module for side in self.sides for module in side.preloads]
 
-        def take(pair: PairResult) -> None:
-            method.observe((pair.a.success, pair.b.success))
-            for consume in consumers:
-                consume(pair)
+    @classmethod
+    def method_of(cls, plan: ComparisonPlan) -> PairedMethod:
+        return paired_method_named(plan.method)(plan.margin, plan.alpha, plan.pairs)
 
-        if not method.decided:
-            todo = Remaining(self.config.pairs, frozenset(r.index for r in results))
-            results += feed_until_decided(self.pairs(todo, workers, backend, ray),
-                                          method, todo, take, _lightened)
-        return ComparisonReport.build(self.plan, results, time.perf_counter() - started,
-                                      workers, backend,
-                                      None if store is None else str(store.path),
-                                      len(results) - resumed)
+    @staticmethod
+    def outcome(result: PairResult) -> tuple[bool, bool]:
+        return result.a.success, result.b.success
 
+    @staticmethod
+    def seconds(result: PairResult) -> float:
+        return result.a.seconds + result.b.seconds
 
-def _lightened(pair: PairResult) -> PairResult:
-    return PairResult(pair.index, lightened(pair.a), lightened(pair.b))
+    @staticmethod
+    def lightened(result: PairResult) -> PairResult:
+        return PairResult(result.index, lightened(result.a), lightened(result.b))
+
+    @classmethod
+    def report(cls, plan: ComparisonPlan, results: Sequence[PairResult], seconds: float,
+               workers: int | None, backend: str | None, store: str | None = None,
+               ran: int | None = None) -> ComparisonReport:
+        return ComparisonReport.build(plan, results, seconds, workers, backend, store, ran)
 
 
 def _side_summary(plan: Plan, episodes: list[EpisodeResult]) -> dict[str, Any]:
@@ -303,15 +241,6 @@ class ComparisonReport(JsonReport):
 
 
 def report_from_store(store: ComparisonStore) -> ComparisonReport:
-    """The report of the comparison in ``store``, rebuilt from the store alone."""
-    from .store import StoreError
-
-    plan = store.plan()
-    if plan is None:
-        raise StoreError(f"{store.path}: the store holds no comparison yet")
-    results = stored_prefix(store, paired_method_named(plan.method))
-    if not results:
-        raise StoreError(f"{store.path}: no pair is stored yet")
-    return ComparisonReport.build(plan, results, sum(r.a.seconds + r.b.seconds
-                                                     for r in results), None, None,
-                                  str(store.path))
+    """The report of the comparison in ``store``, rebuilt from the store alone (see
+    :meth:`~.engine.Study.from_store`)."""
+    return Comparison.from_store(store)[0]

@@ -5,31 +5,17 @@ from __future__ import annotations
 import time
 import traceback
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 
 from vlb_gym.core.runtime import failure_cause
+from vlb_gym.envs.modules import make_primitive_env
 from vlb_gym.wrappers.loop import PolicyEpisode
 from vlb_gym.wrappers.robustness import RobustnessWrapper, certificate_cause
 
-from .records import EpisodeResult, Step
-
-
-class Policy(Protocol):
-    """What campaigns run: a behavior graph or a trained agent.
-
-    ``predict`` returns ``(action, state)``; an action of None means the policy has finished. A
-    behavior graph's state is the node that chose the action (a string, recorded with the step);
-    an agent's is its recurrent state or None. ``reset`` gets the episode's reset seed: a policy
-    that draws its actions seeds its own generator from it, so that episodes stay independent
-    and each replays exactly.
-    """
-
-    def reset(self, seed: int | None = None) -> None: ...
-
-    def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
-                deterministic: bool = True) -> tuple[np.ndarray | None, Any]: ...
+from .policies import Policy, policy_loader
+from .records import CampaignConfig, EpisodeResult, Step, episode_seed
 
 
 _NUMBERS = (int, float, bool)
@@ -124,3 +110,24 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
 
 _MAX_TRACEBACK = 8000  # characters of a traceback kept (its end: where it was raised)
 
+
+def build(config: CampaignConfig, render_mode: str | None = None
+          ) -> tuple[RobustnessWrapper, Policy]:
+    """The wrapped environment (made and checked) and the policy, loaded by its kind's loader."""
+    kwargs = config.env_kwargs if render_mode is None else {**config.env_kwargs,
+                                                            "render_mode": render_mode}
+    env = RobustnessWrapper(make_primitive_env(config.env_id, kwargs, config.env_modules))
+    return env, policy_loader(config.policy.kind).load(config.policy, env)
+
+
+def episode_runner(config: CampaignConfig,
+                   built: tuple[RobustnessWrapper, Policy] | None = None
+                   ) -> Callable[[int], EpisodeResult]:
+    """What runs episode ``index`` of the campaign, on ``built`` (made now if not given): each
+    worker of a backend calls this once."""
+    env, policy = built or build(config)
+
+    def run(index: int) -> EpisodeResult:
+        return run_episode(env, policy, episode_seed(config.seed, index), index,
+                           config.stop_on_failure)
+    return run

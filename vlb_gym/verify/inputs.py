@@ -118,7 +118,7 @@ class ShippedRunner:
 
     def build(self) -> tuple[Any, Any]:
         """The env and policy, built from the shipped files and checked against the plan."""
-        from .campaign import build
+        from .episode import build
         from .policies import policy_loader
 
         config = rebased(self.config, self.inputs)

@@ -3,9 +3,10 @@
 A campaign tests ``P[success] >= 1 - epsilon`` at level ``delta``. A :class:`Method` sees the
 episodes' outcomes (in index order when it may stop early), says when it has decided, and gives
 the report's claim: its keys and its words. A campaign's plan names its method (``"fixed-N"``
-or ``"sequential"``); :data:`METHODS` maps the names to the classes, so a new method is one
-class here and nothing else changes: the campaign, the store, the report and the CLI ask the
-method, never the name.
+or ``"sequential"``). Every method, of campaigns and of comparisons (:mod:`.paired_methods`),
+is in one registry (:data:`REGISTRY`, by the unit it observes and its name): a new method is one
+class marked :func:`register` and nothing else changes: the engine, the store, the report and
+the CLI ask the method, never the name.
 
 * :class:`FixedN`: N fixed before the campaign, every episode run; the binomial tail gives the
   confidence and Clopper-Pearson the lower bound (:mod:`.bounds`).
@@ -18,7 +19,9 @@ from __future__ import annotations
 import abc
 import math
 from collections.abc import Iterable, Mapping
-from typing import Any, ClassVar
+from typing import Any, ClassVar, TypeVar
+
+from vlb_gym.core.document import Block, Cell, Inline, Paragraph, Strong
 
 from . import bounds, sequential
 
@@ -29,6 +32,8 @@ class Decider(abc.ABC):
     gives the report's claim, in keys and in words."""
 
     name: ClassVar[str]
+    #: what one outcome is of: ``"episode"`` (a campaign's) or ``"pair"`` (a comparison's)
+    unit: ClassVar[str]
     #: whether it may decide before the last outcome: it is then fed outcomes in index order
     #: (whatever order workers finish them in), and those past its decision are dropped
     stops_early: ClassVar[bool]
@@ -72,11 +77,54 @@ class Decider(abc.ABC):
     def lines(report: Mapping[str, Any]) -> list[str]:
         """The claim of ``report`` in words, as the command prints it."""
 
+    @staticmethod
+    def paragraphs(report: Mapping[str, Any], where: list[Inline]) -> list[Block]:
+        """The claim of ``report`` as the report folder's paragraphs, ``where`` saying of what
+        and for which distribution; by default the claim's statement."""
+        return [Paragraph([*where, ": ", str(report["statement"]), "."])]
+
+    @staticmethod
+    def rows(report: Mapping[str, Any]) -> list[list[Cell]]:
+        """The rows the method adds to the report folder's table of numbers (its own keys)."""
+        return []
+
+
+D = TypeVar("D", bound=type[Decider])
+
+REGISTRY: dict[str, dict[str, type[Decider]]] = {"episode": {}, "pair": {}}
+"""Every statistical method: ``REGISTRY[unit][name]``, the unit it observes (``"episode"``,
+``"pair"``) and the name a plan gives."""
+
+
+def register(method: D) -> D:
+    """Make ``method`` (a :class:`Decider` subclass with its ``unit`` and ``name``) one a plan
+    can name; a class decorator."""
+    REGISTRY[method.unit][method.name] = method
+    return method
+
+
+def method_named(name: str, unit: str = "episode") -> Any:
+    """The method of ``unit`` called ``name``; ValueError naming the known ones otherwise."""
+    known = REGISTRY[unit]
+    try:
+        return known[name]
+    except KeyError:
+        raise ValueError(f"unknown statistical method {name!r} (known: "
+                         f"{', '.join(known)})") from None
+
+
+def not_complete(planned: int, units: str, verdict: str) -> str:
+    """The line a method prints for a run that stopped before its ``planned`` units."""
+    return (f"  no {verdict} until all {planned} {units} ran: the ones stored finished first "
+            "(failures can end sooner)")
+
 
 class Method(Decider):
     """A statistical method for one campaign of at most ``episodes`` episodes; an outcome is
     an episode's success. Its claim has at least ``complete``, ``confidence``,
     ``lower_bound`` and ``statement``."""
+
+    unit = "episode"
 
     def __init__(self, epsilon: float, delta: float, episodes: int):
         bounds._check_probability("epsilon", epsilon)
@@ -102,6 +150,7 @@ class Method(Decider):
             self.failures += 1
 
 
+@register
 class FixedN(Method):
     """N fixed in advance; every episode counts."""
 
@@ -134,15 +183,35 @@ class FixedN(Method):
     @staticmethod
     def lines(report: Mapping[str, Any]) -> list[str]:
         if not report["complete"]:  # the figures of a part would read as a guarantee
-            return [f"  no guarantee until all {report['planned_episodes']} episodes ran: the "
-                    "ones stored finished first (failures can end sooner), so their figures "
-                    "are not printed"]
+            return [not_complete(report["planned_episodes"], "episodes", "guarantee")
+                    + ", so their figures are not printed"]
         return [f"  {_at_least(report['epsilon'])} with confidence "
                 f"{bounds.floor_str(report['confidence'])}",
                 f"  P[success] >= {bounds.floor_str(report['lower_bound'])} at confidence level "
                 f"{bounds.one_minus_str(report['delta'])} (one-sided Clopper-Pearson)"]
 
+    @staticmethod
+    def paragraphs(report: Mapping[str, Any], where: list[Inline]) -> list[Block]:
+        if not report["complete"]:  # a part of a fixed-N campaign certifies nothing
+            return [Paragraph([Strong("No guarantee: "), str(report["statement"]), "."])]
+        claim = bounds.one_minus_str(report["epsilon"])
+        level = bounds.one_minus_str(report["delta"])
+        conf, low, delta = report["confidence"], report["lower_bound"], report["delta"]
+        return [
+            Paragraph([*where, " succeeds with probability at least ", Strong(claim),
+                       ", with confidence ", Strong(bounds.floor_str(conf)), "."]),
+            Paragraph(["At confidence level ", Strong(level), " (delta = ", f"{delta:g}",
+                       "), its probability of success is at least ",
+                       Strong(bounds.floor_str(low)),
+                       f" (one-sided Clopper–Pearson lower bound from N = {report['episodes']} "
+                       f"episodes with k = {report['failures']} failures)."]),
+            Paragraph(["Target confidence ", level, ": ",
+                       Strong("met" if conf >= 1.0 - delta else "not met"),
+                       ". N was fixed before the campaign; bounds are rounded down; the guarantee "
+                       "holds for this sampling distribution only."])]
 
+
+@register
 class Sequential(Method):
     """Until the anytime-valid test decides, N (the cap) at most."""
 
@@ -260,6 +329,48 @@ class Sequential(Method):
             "('vlb plan')",
         ]
 
+    @staticmethod
+    def paragraphs(report: Mapping[str, Any], where: list[Inline]) -> list[Block]:
+        claim = bounds.one_minus_str(report["epsilon"])
+        level = bounds.one_minus_str(report["delta"])
+        decision = str(report.get("decision", "undecided"))
+        low, high = report["lower_bound"], report.get("upper_bound", 1.0)
+        stopped = report.get("stopped_at")
+        stop_words = (f"stopped after {stopped} episodes" if stopped is not None else
+                      "no decision within the cap of "
+                      f"{report.get('max_episodes', report['episodes'])} episodes")
+        verb = {"certified": [" succeeds with probability at least ", Strong(claim),
+                              ": certified"],
+                "refuted": [" succeeds with probability below ", Strong(claim), ": refuted"]}
+        blocks: list[Block] = [
+            Paragraph([*where, *verb.get(decision, [
+                " has no certified probability of success at ", Strong(claim),
+                ": undecided, nothing is certified"]),
+                       f" at level {level} by an anytime-valid sequential test ({stop_words})."]),
+            Paragraph(["Decision: ", Strong(decision), ". Anytime-valid confidence interval at "
+                       f"level {level}, simultaneously for all n: P[success] in [",
+                       Strong(bounds.floor_str(low)), ", ", Strong(bounds.ceil_str(high)),
+                       "]; confidence in the claim: ",
+                       Strong(bounds.floor_str(report["confidence"])), "."]),
+            Paragraph(["Test: ", str(report.get("test", "?")), ". Guarantee: ",
+                       str(report.get("guarantee", "?"))])]
+        fixed = report.get("fixed_n_description") or {}
+        if fixed:
+            blocks.append(Paragraph([
+                "Clopper–Pearson figures of these episodes, for description only: confidence ",
+                bounds.floor_str(fixed.get("confidence", 0.0)), ", lower bound ",
+                bounds.floor_str(fixed.get("lower_bound", 0.0)), ". ",
+                str(fixed.get("note", ""))]))
+        return blocks
+
+    @staticmethod
+    def rows(report: Mapping[str, Any]) -> list[list[Cell]]:
+        return [["upper bound on P[success] (anytime-valid)",
+                 bounds.ceil_str(report.get("upper_bound", 1.0))],
+                ["decision", str(report.get("decision"))],
+                ["stopped at", str(report.get("stopped_at"))],
+                ["cap (max episodes)", str(report.get("max_episodes"))]]
+
 
 def _binomial(n: int, failures: int, epsilon: float, delta: float) -> tuple[float, float]:
     """The fixed-N confidence in the claim and the Clopper-Pearson lower bound (0 with no
@@ -273,14 +384,5 @@ def _at_least(epsilon: float) -> str:
     return f"P[success] >= {bounds.one_minus_str(epsilon)}"
 
 
-METHODS: dict[str, type[Method]] = {m.name: m for m in (FixedN, Sequential)}
-"""Every statistical method, by the name a campaign's plan gives."""
-
-
-def method_named(name: str) -> type[Method]:
-    """The method called ``name``; ValueError naming the known ones otherwise."""
-    try:
-        return METHODS[name]
-    except KeyError:
-        raise ValueError(f"unknown statistical method {name!r} (known: "
-                         f"{', '.join(METHODS)})") from None
+METHODS: dict[str, type[Method]] = REGISTRY["episode"]  # type: ignore[assignment]
+"""The methods of campaigns, by the name a campaign's plan gives."""

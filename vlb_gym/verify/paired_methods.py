@@ -2,8 +2,9 @@
 decision (the statistics are :mod:`.paired`'s).
 
 :class:`PairedMethod` has the shape of a campaign's :class:`~.methods.Method`, fed
-``(a_success, b_success)``; :data:`PAIRED_METHODS` maps the names a comparison's plan gives
-(``"fixed-N"``, ``"sequential"``) to the classes.
+``(a_success, b_success)``, and registered beside it (:data:`~.methods.REGISTRY`, unit
+``"pair"``); :data:`PAIRED_METHODS` maps the names a comparison's plan gives (``"fixed-N"``,
+``"sequential"``) to the classes.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from . import bounds
-from .methods import Decider
+from .methods import REGISTRY, Decider, method_named, not_complete, register
 from .paired import (BETS, SEQUENTIAL_TEST, PairCounts, anytime_bounds, check_alpha, check_margin,
                      claim_words, log_wealth, mcnemar_p, refuted_words, unconditional_bounds,
                      unconditional_p)
@@ -24,6 +25,8 @@ class PairedMethod(Decider):
     -margin`` at level ``alpha``; an outcome is a pair's ``(a_success, b_success)``. Its claim
     has at least ``complete``, ``decision`` (``"shown"``, ``"refuted"``, ``"not shown"`` or
     ``"undecided"``), ``interval`` and ``statement``."""
+
+    unit = "pair"
 
     def __init__(self, margin: float, alpha: float, pairs: int):
         check_margin(margin)
@@ -37,6 +40,7 @@ class PairedMethod(Decider):
         self.counts = self.counts.add(*outcome)
 
 
+@register
 class FixedPairs(PairedMethod):
     """``pairs`` fixed in advance, all run; McNemar's exact test (margin 0) or the exact
     unconditional test (margin > 0)."""
@@ -83,8 +87,7 @@ class FixedPairs(PairedMethod):
     @staticmethod
     def lines(report: Mapping[str, Any]) -> list[str]:
         if not report["complete"]:
-            return [f"  no decision until all {report['planned_pairs']} pairs ran: the ones "
-                    "stored finished first (failures can end sooner)"]
+            return [not_complete(report["planned_pairs"], "pairs", "decision")]
         low, high = report["interval"]
         if report["decision"] == "refuted":
             head = (f"  REFUTED: {refuted_words(report['margin'])} is shown, at level "
@@ -100,6 +103,7 @@ class FixedPairs(PairedMethod):
                 f"{report['interval_note']}"]
 
 
+@register
 class SequentialPairs(PairedMethod):
     """Pairs until the betting test decides, ``pairs`` (the cap) at most."""
 
@@ -178,12 +182,10 @@ class SequentialPairs(PairedMethod):
                 f"  test: {report['test']}"]
 
 
-PAIRED_METHODS: dict[str, type[PairedMethod]] = {m.name: m for m in (FixedPairs, SequentialPairs)}
+PAIRED_METHODS: dict[str, type[PairedMethod]] = REGISTRY["pair"]  # type: ignore[assignment]
+"""The methods of comparisons, by the name a comparison's plan gives."""
 
 
 def paired_method_named(name: str) -> type[PairedMethod]:
-    try:
-        return PAIRED_METHODS[name]
-    except KeyError:
-        raise ValueError(f"unknown statistical method {name!r} (known: "
-                         f"{', '.join(PAIRED_METHODS)})") from None
+    """The comparison method called ``name`` (:func:`~.methods.method_named` of pairs)."""
+    return method_named(name, "pair")

@@ -16,10 +16,25 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 if TYPE_CHECKING:
     import gymnasium as gym
-
-    from .episode import Policy
+    import numpy as np
 
 ENTRY_POINT_GROUP = "vlb_gym.policies"
+
+
+class Policy(Protocol):
+    """What campaigns run: a behavior graph or a trained agent.
+
+    ``predict`` returns ``(action, state)``; an action of None means the policy has finished. A
+    behavior graph's state is the node that chose the action (a string, recorded with the step);
+    an agent's is its recurrent state or None. ``reset`` gets the episode's reset seed: a policy
+    that draws its actions seeds its own generator from it, so that episodes stay independent
+    and each replays exactly.
+    """
+
+    def reset(self, seed: int | None = None) -> None: ...
+
+    def predict(self, observation: Any, state: Any = None, episode_start: Any = None,
+                deterministic: bool = True) -> tuple[np.ndarray | None, Any]: ...
 
 
 @dataclass(frozen=True)
@@ -42,6 +57,9 @@ class PolicyLoader(Protocol):
     only when the user names it again."""
 
     runs_code: bool
+    #: the words of ``vlb replay`` before a reference of this kind (``("--behavior",)``), or
+    #: None where ``vlb replay`` cannot name one
+    replay_options: tuple[str, ...] | None
 
     def load(self, ref: PolicyRef, env: gym.Env) -> Policy:
         """The policy, ready to run on ``env`` (checked: a bad reference raises ValueError)."""

@@ -9,9 +9,11 @@ keys, a record consistent with itself) before anything is counted.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import field
 from typing import Annotated, Any
 
+import numpy as np
 from typing_extensions import TypedDict
 
 from pydantic import (AfterValidator, BeforeValidator, ConfigDict, Field, TypeAdapter,
@@ -26,6 +28,12 @@ MAX_EPISODE_SECONDS = 365 * 24 * 3600.0  # an episode's recorded time: more is a
 Seconds = Annotated[float, Field(ge=0, le=MAX_EPISODE_SECONDS, allow_inf_nan=False)]
 """A recorded wall time: finite, and at most a year (so that any number of them sums to a
 finite total)."""
+
+
+def episode_seed(campaign_seed: int, index: int) -> int:
+    """The reset seed of episode ``index``: the index-th spawned child of the campaign's seed."""
+    child = np.random.SeedSequence(campaign_seed, spawn_key=(index,))
+    return int(child.generate_state(1, dtype=np.uint64)[0])
 
 
 def _representable(level: float) -> float:
@@ -305,11 +313,66 @@ class PairResult:
         return {"index": self.index, "a": self.a.stored(), "b": self.b.stored()}
 
 
+def _checked(name: str) -> Callable[[float], float]:
+    """A validator running :mod:`.paired`'s check ``name`` (its words say what is allowed)."""
+    def check(value: float) -> float:
+        from . import paired
+
+        getattr(paired, name)(value)
+        return value
+    return check
+
+
 def _known_paired_method(name: str) -> str:
     from .paired_methods import paired_method_named
 
     paired_method_named(name)
     return name
+
+
+@dataclass(frozen=True, config=STRICT)
+class ComparisonConfig:
+    """Everything that defines a comparison, checked as a campaign's config is. ``a`` and ``b``
+    are policy references (a string names a behavior); ``env_kwargs`` apply to both,
+    ``a_env_kwargs``/``b_env_kwargs`` to one (and win). ``method`` names the paired method
+    (``"fixed-N"``: all ``pairs`` run; ``"sequential"``: until the anytime-valid test decides,
+    ``pairs`` at most, by default :data:`~.paired.DEFAULT_MAX_PAIRS`). ``margin`` 0 tests "B is
+    more reliable than A"; above 0, "B is at least as reliable as A up to the margin". Values of
+    the wrong type or range raise pydantic's ValidationError (a ValueError)."""
+
+    env_id: str
+    a: PolicyRef | str
+    b: PolicyRef | str
+    pairs: Annotated[int, Field(ge=1)] | None = None
+    margin: Annotated[float, AfterValidator(_checked("check_margin"))] = 0.0
+    alpha: Annotated[float, AfterValidator(_checked("check_alpha"))] = 0.05
+    seed: Count = 0
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    a_env_kwargs: dict[str, Any] = field(default_factory=dict)
+    b_env_kwargs: dict[str, Any] = field(default_factory=dict)
+    stop_on_failure: bool = True
+    env_modules: Modules = ()
+    method: Annotated[str, AfterValidator(_known_paired_method)] = FixedN.name
+
+    def __post_init__(self) -> None:
+        from .paired import DEFAULT_MAX_PAIRS
+        from .paired_methods import paired_method_named
+
+        for side in ("a", "b"):
+            if isinstance(getattr(self, side), str):
+                object.__setattr__(self, side, PolicyRef("behavior", getattr(self, side)))
+        if self.pairs is None:
+            if not paired_method_named(self.method).stops_early:
+                raise ValueError("a fixed-N comparison needs its number of pairs")
+            object.__setattr__(self, "pairs", DEFAULT_MAX_PAIRS)
+
+    def side(self, name: str) -> CampaignConfig:
+        """Side ``"a"`` or ``"b"`` as a fixed-N campaign of ``pairs`` episodes, same seed."""
+        own = self.a_env_kwargs if name == "a" else self.b_env_kwargs
+        return CampaignConfig(self.env_id, getattr(self, name), self.pairs, seed=self.seed,
+                              env_kwargs={**self.env_kwargs, **own},
+                              stop_on_failure=self.stop_on_failure,
+                              env_modules=self.env_modules)
 
 
 @dataclass(frozen=True, config=STRICT)

@@ -16,7 +16,8 @@ import numpy as np
 
 from vlb_gym.core.env import FrameKey
 
-from .campaign import CampaignConfig, build
+from .episode import build
+from .records import CampaignConfig
 from .episode import EpisodeResult, run_episode
 from .policies import policy_loader
 from .records import Plan

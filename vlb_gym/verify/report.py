@@ -47,15 +47,18 @@ def failures_by_cause(results: Sequence[EpisodeResult], examples: int = 3) -> li
             for cause, failed in sorted(groups.items(), key=lambda item: -len(item[1]))]
 
 
-_REPLAY_OPTIONS = {"behavior": ["--behavior"], "sb3": ["--policy"],  # what 'vlb replay' takes
-                   "sb3_sampled": ["--sample", "--policy"]}
 
 
 def replay_command(policy: Mapping[str, Any], env_id: str, env_kwargs: Mapping[str, Any],
                    env_modules: Sequence[str], seed: int) -> str | None:
     """The ``vlb replay`` command that re-runs ``policy`` from reset seed ``seed`` (None for a
-    policy kind of its own, which ``vlb replay`` cannot name)."""
-    option = _REPLAY_OPTIONS.get(policy["kind"])
+    policy kind ``vlb replay`` cannot name, or whose package is not installed here)."""
+    from .policies import policy_loader
+
+    try:
+        option = getattr(policy_loader(policy["kind"]), "replay_options", None)
+    except (ValueError, ImportError):
+        return None
     if option is None:
         return None
     words = ["vlb", "replay", env_id, *option, shown_path(policy["ref"]), "--seed", str(seed)]

@@ -24,7 +24,7 @@ from pydantic import ValidationError
 from vlb_gym.core.errors import UserError
 from vlb_gym.core.formats import CURRENT, FormatError, check_format
 
-from .records import (ComparisonPlan, EpisodeResult, PairResult, Plan,
+from .records import (ComparisonPlan, EpisodeResult, PairResult, Plan, episode_seed,
                       comparison_plan_from_json, episode_from_json, first_error,
                       pair_from_json, plan_from_json)
 
@@ -221,8 +221,6 @@ class CampaignStore:
 
     def _belongs(self, count: int, seed: int, result: EpisodeResult) -> None:
         """StoreError unless ``result`` is one of the ``count`` episodes of root ``seed``."""
-        from .campaign import episode_seed
-
         if result.index >= count:
             raise StoreError(f"{self.path}: stored {self.unit} {result.index} is beyond the "
                              f"{self.holds}'s {count} {self.unit}s: the store was "

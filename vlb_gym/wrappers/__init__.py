@@ -10,6 +10,5 @@ if TYPE_CHECKING:
     from .behavior import BehaviorAgent, BehaviorFinished
     from .robustness import RobustnessWrapper
 
-__all__ = ["BehaviorAgent", "BehaviorFinished", "RobustnessWrapper"]
-__getattr__, __dir__ = lazy_names(__name__, globals(), {
+__getattr__, __dir__, __all__ = lazy_names(__name__, globals(), {
     ".behavior": ("BehaviorAgent", "BehaviorFinished"), ".robustness": ("RobustnessWrapper",)})
