@@ -59,7 +59,7 @@ REPOSITORY = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPOSITORY))
 
 from benchmarks.synthesis_tasks import TASKS, Task, evaluate  # noqa: E402
-from vlb_gym.abstractor.backends import (BackendError, ChatBackend,  # noqa: E402
+from vlb_gym.abstractor.backends import (ModelError, ChatBackend,  # noqa: E402
                                          TranscriptBackend)
 from vlb_gym.abstractor.certified import (Seeds, certify_promise,  # noqa: E402
                                           synthesize_certified)
@@ -209,7 +209,7 @@ def replay(folder: Path, tasks: list[Task], cap: int | None = None) -> list[Samp
         try:
             backend = None if saved["pipeline"] == "promise" else \
                 TranscriptBackend.from_file(path)
-        except BackendError as exc:
+        except ModelError as exc:
             sys.exit(str(exc))
         with tempfile.TemporaryDirectory() as scratch:
             record = attempt(task, backend, path.parent.name, sample, Path(scratch), budgets,

@@ -10,7 +10,7 @@ import gymnasium as gym
 import pytest
 
 from vlb_gym import load_behavior
-from vlb_gym.abstractor.backends import BackendError, ScriptedBackend, TranscriptBackend
+from vlb_gym.abstractor.backends import ModelError, ScriptedBackend, TranscriptBackend
 from vlb_gym.abstractor.served import OpenAICompatibleBackend
 from vlb_gym.abstractor.prompt import PromptContext, build_messages, request_schema
 from vlb_gym.abstractor.synthesize import SynthesisError, save, synthesize
@@ -115,7 +115,7 @@ def test_a_served_reply_repeating_a_rejected_one_is_drawn_again(library):
 def test_server_errors_are_retried_then_fail_clearly():
     with ChatServer([("status", 500)] * 3) as server:
         backend = http_backend(server, max_retries=2)
-        with pytest.raises(BackendError, match=r"no reply after 3 attempt\(s\); last: HTTP 500"):
+        with pytest.raises(ModelError, match=r"no reply after 3 attempt\(s\); last: HTTP 500"):
             backend.complete([{"role": "user", "content": "hi"}])
     assert len(server.requests) == 3
     with ChatServer([("status", 503), ("status", 429), ("reply", "ok")]) as server:
@@ -124,26 +124,26 @@ def test_server_errors_are_retried_then_fail_clearly():
 
 def test_client_errors_are_not_retried():
     with ChatServer([("status", 401), ("reply", "never")]) as server:
-        with pytest.raises(BackendError, match="HTTP 401"):
+        with pytest.raises(ModelError, match="HTTP 401"):
             http_backend(server, max_retries=3).complete([])
     assert len(server.requests) == 1
 
 
 def test_timeouts_are_retried_then_fail_clearly():
     with ChatServer([("sleep", 1.0, "late")] * 2) as server:
-        with pytest.raises(BackendError, match="timed out after 0.2 s"):
+        with pytest.raises(ModelError, match="timed out after 0.2 s"):
             http_backend(server, timeout=0.2, max_retries=1).complete([])
     assert len(server.requests) == 2
 
 
 def test_malformed_completion_and_unreachable_server():
     with ChatServer([("raw", b'{"choices": []}')]) as server:
-        with pytest.raises(BackendError, match="not a chat completion"):
+        with pytest.raises(ModelError, match="not a chat completion"):
             http_backend(server).complete([])
     with ChatServer([]) as server:
         url = server.url
     backend = OpenAICompatibleBackend(url, "m", timeout=1, max_retries=1, backoff=0.01)
-    with pytest.raises(BackendError, match="cannot connect"):
+    with pytest.raises(ModelError, match="cannot connect"):
         backend.complete([])
 
 

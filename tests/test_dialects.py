@@ -11,7 +11,7 @@ from pathlib import Path
 import gymnasium as gym
 import pytest
 
-from vlb_gym.abstractor.backends import BackendError
+from vlb_gym.abstractor.backends import ModelError
 from vlb_gym.abstractor.dialects import AUTO_ORDER, probe_reply_ok, shape_rejected
 from vlb_gym.abstractor.served import OpenAICompatibleBackend
 from vlb_gym.abstractor.grammar import MAX_GRAPH_ITEMS, MAX_STRING_LENGTH, grammar_schema
@@ -204,7 +204,7 @@ def test_probe_reply_ok(reply, dialect, ok):
 def test_unknown_dialects_are_refused():
     with pytest.raises(ValueError, match="structured_output must be auto, openai"):
         OpenAICompatibleBackend("http://127.0.0.1:1/v1", "m", structured_output="grammar")
-    with pytest.raises(BackendError):  # nothing listens there
+    with pytest.raises(ModelError):  # nothing listens there
         OpenAICompatibleBackend(f"http://127.0.0.1:{closed_port()}/v1", "m",
                                 structured_output="auto", max_retries=0).probe()
 

@@ -12,7 +12,7 @@ import pytest
 from vlb_gym.verify import backends
 from vlb_gym.verify.campaign import Campaign, CampaignConfig, build, episode_seed
 from vlb_gym.verify.comparison import Comparison, ComparisonConfig
-from vlb_gym.verify.engine import Study
+from vlb_gym.verify.engine import EpisodeStudy
 from vlb_gym.verify.episode import EpisodeResult, run_episode
 from vlb_gym.verify.methods import FixedN, Method
 from vlb_gym.verify.store import CampaignStore
@@ -54,12 +54,11 @@ def test_a_registered_backend_runs_campaigns_and_comparisons(toy_backend, method
     assert toy["counts"] == serial["counts"] and toy["p_value"] == serial["p_value"]
 
 
-class FixedSeeds(Study[EpisodeResult]):
+class FixedSeeds(EpisodeStudy):
     """A toy kind of study: a behavior on a list of reset seeds given in advance (say, the
     failures of another campaign), judged fixed-N."""
 
     store_kind = CampaignStore
-    unit = "episode"
 
     def __init__(self, behavior: str, seeds: Sequence[int]):
         self.seeds = list(seeds)
@@ -70,14 +69,6 @@ class FixedSeeds(Study[EpisodeResult]):
     @classmethod
     def method_of(cls, plan: Any) -> Method:
         return FixedN(0.1, 0.05, len(plan["seeds"]))
-
-    @staticmethod
-    def outcome(result: EpisodeResult) -> bool:
-        return result.success
-
-    @staticmethod
-    def seconds(result: EpisodeResult) -> float:
-        return result.seconds
 
     @classmethod
     def report(cls, plan, results, seconds, workers, backend, store=None, ran=None) -> Any:

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from vlb_gym.abstractor.backends import BackendError, ScriptedBackend, TranscriptBackend
+from vlb_gym.abstractor.backends import ModelError, ScriptedBackend, TranscriptBackend
 from vlb_gym.abstractor.dialects import request_rejected
 from vlb_gym.abstractor.served import OpenAICompatibleBackend
 from vlb_gym.core.files import MAX_FILE_BYTES
@@ -35,7 +35,7 @@ def test_redirect_to_another_origin_is_not_followed_and_the_key_stays_home(monke
     monkeypatch.setenv("TEST_KEY", "sk-secret")
     with ChatServer([("reply", "stolen")]) as other:
         with ChatServer([("redirect", other.url + "/chat/completions")] * 4) as server:
-            with pytest.raises(BackendError) as err:
+            with pytest.raises(ModelError) as err:
                 backend(server, api_key_env="TEST_KEY", max_retries=3).complete(MESSAGES)
     assert other.headers == []  # the other origin got no request at all, so never the key
     assert len(server.headers) == 1  # not retried
@@ -52,7 +52,7 @@ def test_probes_and_native_calls_follow_no_redirect_either(dialect, monkeypatch)
         with ChatServer([("redirect", other.url + "/chat/completions")] * 4) as server:
             chat = backend(server, api_key_env="TEST_KEY", max_retries=3,
                            structured_output=dialect)
-            with pytest.raises(BackendError) as err:
+            with pytest.raises(ModelError) as err:
                 chat.complete(MESSAGES)
     assert other.headers == [] and len(server.headers) == 1
     assert server.paths == ["/api/chat" if dialect == "ollama" else "/v1/chat/completions"]
@@ -61,7 +61,7 @@ def test_probes_and_native_calls_follow_no_redirect_either(dialect, monkeypatch)
 
 def test_redirect_within_the_origin_is_not_followed_either():
     with ChatServer([("redirect", "/elsewhere"), ("reply", "never")]) as server:
-        with pytest.raises(BackendError, match=f"redirect to {server.origin} not followed"):
+        with pytest.raises(ModelError, match=f"redirect to {server.origin} not followed"):
             backend(server, max_retries=2).complete(MESSAGES)
     assert len(server.headers) == 1
 
@@ -70,7 +70,7 @@ def test_redirect_within_the_origin_is_not_followed_either():
 
 def test_a_server_trickling_its_body_cannot_outlast_the_timeout():
     with ChatServer([("drip", 0.1, 100)] * 2) as server:  # 10 s per reply
-        with pytest.raises(BackendError,
+        with pytest.raises(ModelError,
                            match=r"after 2 attempt\(s\); last: timed out after 1 s"):
             backend(server, timeout=1.0, max_retries=1).complete(MESSAGES)
     assert len(server.headers) == 2
@@ -79,7 +79,7 @@ def test_a_server_trickling_its_body_cannot_outlast_the_timeout():
 
 def test_a_server_trickling_its_headers_cannot_outlast_the_timeout():
     with ChatServer([("drip_headers", 0.1, 100)]) as server:  # 10 s of headers
-        with pytest.raises(BackendError, match="timed out after 1 s"):
+        with pytest.raises(ModelError, match="timed out after 1 s"):
             backend(server, timeout=1.0, max_retries=0).complete(MESSAGES)
     assert server.sent == [server.sent[0]] and server.sent[0] < 100  # hung up mid-headers
 
@@ -88,7 +88,7 @@ def test_a_server_trickling_its_headers_cannot_outlast_the_timeout():
 
 def test_an_endless_body_fails_at_the_size_cap_and_is_not_retried():
     with ChatServer([("endless",)] * 3) as server:
-        with pytest.raises(BackendError, match="larger than the limit of 2000000 bytes"):
+        with pytest.raises(ModelError, match="larger than the limit of 2000000 bytes"):
             backend(server, max_retries=2).complete(MESSAGES)
     assert len(server.headers) == 1
 
@@ -96,7 +96,7 @@ def test_an_endless_body_fails_at_the_size_cap_and_is_not_retried():
 def test_a_huge_reply_is_not_read_whole():
     size = 50_000_000
     with ChatServer([("huge", size)]) as server:
-        with pytest.raises(BackendError, match="larger than the limit of 100000 bytes"):
+        with pytest.raises(ModelError, match="larger than the limit of 100000 bytes"):
             backend(server, max_reply_bytes=100_000).complete(MESSAGES)
     assert server.sent[0] < size // 2  # the client hung up long before the end
 
@@ -112,7 +112,7 @@ def test_a_compressed_reply_is_refused():
     completion = {"choices": [{"message": {"role": "assistant", "content": "ok"}}]}
     body = gzip.compress(json.dumps(completion).encode())
     with ChatServer([("raw", body, {"Content-Encoding": "gzip"})]) as server:
-        with pytest.raises(BackendError, match=r"compressed \(gzip\)"):
+        with pytest.raises(ModelError, match=r"compressed \(gzip\)"):
             backend(server).complete(MESSAGES)
     assert server.headers[0]["Accept-Encoding"] == "identity"
 
@@ -123,7 +123,7 @@ def test_a_compressed_reply_is_refused():
 def test_requests_the_server_rejects_fail_at_once_with_its_message(status):
     error = b'{"error": {"message": "no such model: test-model", "type": "invalid_request"}}'
     with ChatServer([("status", status, error), ("reply", "never")]) as server:
-        with pytest.raises(BackendError, match=f"/chat/completions: HTTP {status}: "
+        with pytest.raises(ModelError, match=f"/chat/completions: HTTP {status}: "
                                                f"no such model: test-model$"):
             backend(server, max_retries=3).complete(MESSAGES)
     assert len(server.headers) == 1
@@ -131,7 +131,7 @@ def test_requests_the_server_rejects_fail_at_once_with_its_message(status):
 
 def test_a_500_that_is_a_validation_error_fails_at_once_with_its_message():
     with ChatServer([("status", 500, LLAMA_CPP_VALIDATION_500), ("reply", "never")]) as server:
-        with pytest.raises(BackendError) as err:
+        with pytest.raises(ModelError) as err:
             backend(server, max_retries=3).complete(MESSAGES)
     assert len(server.headers) == 1
     assert "HTTP 500: [{'type': 'literal_error', 'loc': ('body', 'response_format', 'type')" \
@@ -141,7 +141,7 @@ def test_a_500_that_is_a_validation_error_fails_at_once_with_its_message():
 
 def test_server_messages_are_cut_to_one_short_line():
     with ChatServer([("status", 400, b"first line\n" + b"z" * 10_000)]) as server:
-        with pytest.raises(BackendError) as err:
+        with pytest.raises(ModelError) as err:
             backend(server).complete(MESSAGES)
     message = str(err.value)
     assert "HTTP 400: first line zzz" in message and message.endswith("z...")
@@ -183,7 +183,7 @@ def test_the_api_key_never_shows_in_errors_or_the_name(monkeypatch, key, echoed,
     echo = json.dumps({"error": {"message": echoed}}).encode()
     with ChatServer([("status", 401, echo)]) as server:
         chat = backend(server, api_key_env="TEST_KEY")
-        with pytest.raises(BackendError) as err:
+        with pytest.raises(ModelError) as err:
             chat.complete(MESSAGES)
     assert shown in str(err.value)
     assert key.lower() not in str(err.value).lower() and key not in chat.name
@@ -241,7 +241,7 @@ def bad_file(kind: str, tmp_path: Path) -> tuple[Path, str]:
                                   "bad JSON", "deep JSON"])
 def test_unusable_reply_files_fail_with_one_line_naming_the_file(loader, kind, tmp_path):
     path, reason = bad_file(kind, tmp_path)
-    with pytest.raises(BackendError) as err:
+    with pytest.raises(ModelError) as err:
         loader.from_file(path)
     message = str(err.value)
     assert message.startswith(f"{path}: ") and re.search(reason, message) and "\n" not in message
@@ -255,5 +255,5 @@ def test_unusable_reply_files_fail_with_one_line_naming_the_file(loader, kind, t
 def test_reply_files_of_the_wrong_shape_fail_clearly(loader, text, problem, tmp_path):
     path = tmp_path / "replies.json"
     path.write_text(text)
-    with pytest.raises(BackendError, match=f"^{path}: {problem}"):
+    with pytest.raises(ModelError, match=f"^{path}: {problem}"):
         loader.from_file(path)

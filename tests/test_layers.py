@@ -58,3 +58,22 @@ print(*sorted(m for m in sys.modules if m.startswith(%r)))
                           timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == []
+
+
+def test_no_import_circle_through_the_campaign_engine():
+    """No module of the engine's path (campaign, comparison, engine, store, inputs, records,
+    episode, policies) imports, even inside a function, one that imports it back."""
+    import networkx as nx
+
+    verify = PACKAGE / "verify"
+    names = {path.stem for path in verify.glob("*.py")}
+    graph = nx.DiGraph()
+    for path in verify.glob("*.py"):
+        for module in imported_modules(path):
+            parts = module.split(".")
+            if parts[:2] == ["vlb_gym", "verify"] and len(parts) > 2 and parts[2] in names:
+                graph.add_edge(path.stem, parts[2])
+    engine = {"campaign", "comparison", "engine", "store", "inputs", "records", "episode",
+              "policies"}
+    circles = [c for c in nx.simple_cycles(graph) if engine & set(c)]
+    assert not circles, circles

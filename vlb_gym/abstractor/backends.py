@@ -20,8 +20,10 @@ from vlb_gym.core.files import InputFileError, load_json, read_limited
 Message = dict[str, str]
 
 
-class BackendError(UserError, RuntimeError):
-    """The backend could not produce a reply (after its retries); the message says why.
+class ModelError(UserError, RuntimeError):
+    """The language model's backend could not produce a reply (after its retries); the message
+    says why. (A backend that runs episodes fails with
+    :class:`vlb_gym.verify.backends.BackendError`.)
 
     ``status`` and ``body`` are the HTTP status and body of the last reply when that was an HTTP
     error (else None and ``""``)."""
@@ -86,11 +88,11 @@ class ScriptedBackend:
     def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
         self.requests.append(list(messages))
         if len(self.requests) > len(self.replies):
-            raise BackendError(f"{self.name}: only {len(self.replies)} scripted repl"
+            raise ModelError(f"{self.name}: only {len(self.replies)} scripted repl"
                                f"{'y' if len(self.replies) == 1 else 'ies'}; asked for another")
         reply = self.replies[len(self.requests) - 1]
         if not isinstance(reply, str):
-            raise BackendError(f"{self.name}: reply {len(self.requests)} was recorded as a "
+            raise ModelError(f"{self.name}: reply {len(self.requests)} was recorded as a "
                                "failure of the language model, not a reply")
         return reply
 
@@ -99,7 +101,7 @@ class ScriptedBackend:
         """Replies from a JSON file: a list of strings, or of behavior documents (objects)."""
         data = _load_file(path, "scripted replies")
         if not isinstance(data, list) or not data:
-            raise BackendError(f"{path}: expected a non-empty JSON list of replies")
+            raise ModelError(f"{path}: expected a non-empty JSON list of replies")
         return cls([r if isinstance(r, str) else json.dumps(r, indent=2) for r in data],
                    name=f"scripted replies from {path}")
 
@@ -121,20 +123,20 @@ class TranscriptBackend(ScriptedBackend):
             if not all(r is None or isinstance(r, str) for r in replies):
                 raise TypeError
         except (KeyError, TypeError):
-            raise BackendError(f"{path}: not a vlb synthesize transcript (expected an object "
+            raise ModelError(f"{path}: not a vlb synthesize transcript (expected an object "
                                f"with a list of rounds, each with a reply)") from None
         return cls(replies, name=f"transcript {path}")
 
 
 def _load_file(path: str | Path, what: str) -> Any:
     """The JSON document in ``path``, read with the limits of :mod:`vlb_gym.core.files` (a
-    regular file, bounded size and nesting); any problem is a one-line :class:`BackendError`
+    regular file, bounded size and nesting); any problem is a one-line :class:`ModelError`
     naming the file."""
     try:
         return load_json(read_limited(path, what=what), str(path))
     except InputFileError as exc:  # its message names the file
-        raise BackendError(str(exc)) from None
+        raise ModelError(str(exc)) from None
     except OSError as exc:  # read_limited lets a few through (a directory, for one)
-        raise BackendError(f"{path}: cannot read {what}: {exc.strerror}") from None
+        raise ModelError(f"{path}: cannot read {what}: {exc.strerror}") from None
     except ValueError as exc:
-        raise BackendError(f"{path}: {what} is not valid JSON: {exc}") from None
+        raise ModelError(f"{path}: {what} is not valid JSON: {exc}") from None

@@ -62,7 +62,7 @@ MAX_REPLY_BYTES = 2_000_000
 MAX_REPLY_CHARS = 100_000
 """Default cap on the reply text returned (and so kept in transcripts); the rest is cut off."""
 MAX_DETAIL_CHARS = 300
-"""How much of a server's error message goes into a :class:`BackendError`."""
+"""How much of a server's error message goes into a :class:`ModelError`."""
 VALIDATION_MARKERS = ("validation", "literal_error", "input should be", "'loc'", '"loc"',
                       "response_format")
 """Text that marks an HTTP 500 body as a request-validation error (see :func:`request_rejected`)."""

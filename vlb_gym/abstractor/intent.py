@@ -24,7 +24,7 @@ from vlb_gym.core.env import PrimitiveEnv
 from vlb_gym.core.promise import check_promise
 from vlb_gym.core.spec import BehaviorSpecError, Promise, validated
 
-from .backends import BackendError, ChatBackend, Message
+from .backends import ModelError, ChatBackend, Message
 from .grammar import promise_schema
 
 EXAMPLES_SHOWN = 4
@@ -152,7 +152,7 @@ def draft_promise(request: str, interface: PrimitiveEnv, backend: ChatBackend,
         messages = promise_messages(request, interface, shown, rejected)
         try:
             reply = backend.complete(messages, promise_schema())
-        except BackendError as exc:
+        except ModelError as exc:
             rounds.append({"round": number, "reply": None, "error": str(exc),
                            "layer": "backend"})
             return Draft(None, rounds)

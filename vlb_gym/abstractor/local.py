@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .backends import BackendError, Message, unrepeated
+from .backends import ModelError, Message, unrepeated
 
 GGUF_MAGIC = b"GGUF"
 DEFAULT_CONTEXT = 8192
@@ -110,7 +110,7 @@ class LocalBackend:
             try:
                 self._grammars[key] = LlamaGrammar.from_json_schema(key, verbose=False)
             except (ValueError, RuntimeError) as exc:
-                raise BackendError(f"llama.cpp could not compile the request schema into a "
+                raise ModelError(f"llama.cpp could not compile the request schema into a "
                                    f"grammar: {exc}") from None
         return self._grammars[key]
 
@@ -170,6 +170,6 @@ class LocalBackend:
                            "seconds": round(seconds, 3), "finish": finish,
                            "temperature": temperature, "seed": seed})
         if finish == "timeout":
-            raise BackendError(f"no complete reply within --timeout {self.timeout:g} s "
+            raise ModelError(f"no complete reply within --timeout {self.timeout:g} s "
                                f"({tokens} tokens generated)")
         return "".join(pieces)

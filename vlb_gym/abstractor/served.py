@@ -23,7 +23,7 @@ import httpx
 
 from vlb_gym.core.files import load_json
 
-from .backends import BackendError, Message, unrepeated
+from .backends import ModelError, Message, unrepeated
 from .dialects import (ALIASES, AUTO_ORDER, DIALECTS, MAX_DETAIL_CHARS, MAX_REPLY_BYTES,
                        MAX_REPLY_CHARS, MISSING_ENDPOINT, OLLAMA_NUM_CTX, PROBE_MAX_TOKENS,
                        PROBE_MESSAGES, PROBE_SCHEMA, StructuredOutput, probe_reply_ok,
@@ -203,7 +203,7 @@ class OpenAICompatibleBackend:
         :func:`shape_rejected`; such a request is never sent again) or answers with a reply that
         shows it was ignored (see :func:`probe_reply_ok`): vLLM, for one, ignores fields it does
         not know. Any other failure -- a timeout, a refused connection, HTTP 401 -- is a
-        :class:`BackendError` naming the dialect being probed, not a reason to fall back.
+        :class:`ModelError` naming the dialect being probed, not a reason to fall back.
         """
         if self._dialect is not None:
             return self._dialect
@@ -215,7 +215,7 @@ class OpenAICompatibleBackend:
             body = self._body(dialect, PROBE_MESSAGES, PROBE_SCHEMA, PROBE_MAX_TOKENS, strict)
             try:
                 reply = self._request(dialect, body)
-            except BackendError as exc:
+            except ModelError as exc:
                 if exc.status in MISSING_ENDPOINT and dialect != "ollama":
                     missing = True
                     self.probe_log.append({"dialect": dialect, "outcome": f"no endpoint: {exc}"})
@@ -223,10 +223,10 @@ class OpenAICompatibleBackend:
                 if exc.status is not None and shape_rejected(exc.status, exc.body, dialect):
                     self.probe_log.append({"dialect": dialect, "outcome": f"rejected: {exc}"})
                     continue
-                raise BackendError(f"structured output probe ({dialect}): {exc}", exc.status,
+                raise ModelError(f"structured output probe ({dialect}): {exc}", exc.status,
                                    exc.body) from None
             if not reply.strip():
-                raise BackendError(f"structured output probe ({dialect}): the model replied "
+                raise ModelError(f"structured output probe ({dialect}): the model replied "
                                    f"nothing within {PROBE_MAX_TOKENS} tokens (a reasoning model "
                                    "may spend them thinking); name the dialect with "
                                    "--structured-output instead of auto")
@@ -238,7 +238,7 @@ class OpenAICompatibleBackend:
             self.probe_log.append({"dialect": dialect,
                                    "outcome": f"ignored: the reply did not follow the probe "
                                               f"schema: {shown!r}"})
-        raise BackendError(f"{self.url}: structured output probe: the server rejected every "
+        raise ModelError(f"{self.url}: structured output probe: the server rejected every "
                            f"request shape ({', '.join(AUTO_ORDER)}); last: "
                            f"{self.probe_log[-1]['outcome']}")
 
@@ -258,8 +258,8 @@ class OpenAICompatibleBackend:
         last = problems[-1]
         problem, body = self._redacted(last.problem), self._redacted(last.body)
         if len(problems) == 1:
-            raise BackendError(f"{url}: {problem}", last.status, body)
-        raise BackendError(f"{url}: no reply after {len(problems)} attempt(s); last: "
+            raise ModelError(f"{url}: {problem}", last.status, body)
+        raise ModelError(f"{url}: no reply after {len(problems)} attempt(s); last: "
                            f"{problem}", last.status, body)
 
     def _redacted(self, text: str) -> str:

@@ -17,7 +17,7 @@ from vlb_gym.core.library import BehaviorLibrary, compile_for, spec_json
 from vlb_gym.core.errors import UserError
 from vlb_gym.core.spec import BehaviorSpecError
 
-from .backends import BackendError, ChatBackend
+from .backends import ModelError, ChatBackend
 from .prompt import PROMPT_VERSION, PromptContext, build_messages, repair_message, request_schema
 from .validate import validate_reply
 
@@ -71,7 +71,7 @@ def synthesize(env_id: str, description: str, backend: ChatBackend,
         drawn = len(usage)
         try:
             reply = backend.complete(messages, schema)
-        except BackendError as exc:
+        except ModelError as exc:
             _note_structured_output(transcript, backend)
             transcript["rounds"].append({"round": round_number, "reply": None,
                                          "error": str(exc), "layer": "backend"})

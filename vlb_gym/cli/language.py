@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 
 
 def backend_from_args(args: argparse.Namespace) -> ChatBackend:
-    from vlb_gym.abstractor.backends import BackendError, ScriptedBackend, TranscriptBackend
+    from vlb_gym.abstractor.backends import ModelError, ScriptedBackend, TranscriptBackend
     from vlb_gym.abstractor.served import OpenAICompatibleBackend
 
     chosen = [flag for flag, value in (("--scripted", args.scripted),
@@ -39,7 +39,7 @@ def backend_from_args(args: argparse.Namespace) -> ChatBackend:
             return ScriptedBackend.from_file(args.scripted)
         if args.replay_transcript:
             return TranscriptBackend.from_file(args.replay_transcript)
-    except BackendError as exc:  # an unreadable or malformed file of replies
+    except ModelError as exc:  # an unreadable or malformed file of replies
         raise UsageError(str(exc)) from None
     try:
         if args.temperature < 0:
@@ -100,7 +100,7 @@ class TokenProgress:
 def announce_structured_output(backend: ChatBackend, command: str) -> None:
     """With ``--structured-output auto``, probe the server now (a failure is a usage error, exit
     2) and say on stderr which dialect it speaks."""
-    from vlb_gym.abstractor.backends import BackendError
+    from vlb_gym.abstractor.backends import ModelError
     from vlb_gym.abstractor.dialects import dialect_label
     from vlb_gym.abstractor.served import OpenAICompatibleBackend
 
@@ -108,7 +108,7 @@ def announce_structured_output(backend: ChatBackend, command: str) -> None:
         return
     try:
         dialect = backend.probe()
-    except BackendError as exc:
+    except ModelError as exc:
         raise UsageError(str(exc)) from None
     print(f"vlb {command}: structured output: {dialect_label(dialect)}", file=sys.stderr)
 
@@ -292,7 +292,7 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
 
 
 def cmd_scoop_setup(args: argparse.Namespace) -> int:
-    from vlb_gym.abstractor.backends import BackendError
+    from vlb_gym.abstractor.backends import ModelError
     from vlb_gym.envs.scoop.setup import ScoopSetup, SetupError, transcript_json
     from vlb_gym.core.library import BehaviorLibrary
 
@@ -321,7 +321,7 @@ def cmd_scoop_setup(args: argparse.Namespace) -> int:
         try:
             for message in session.request(line.strip()):
                 print(message)
-        except (SetupError, BackendError) as exc:
+        except (SetupError, ModelError) as exc:
             print(f"error: {exc}")
     env.close()
     if backend is not None:

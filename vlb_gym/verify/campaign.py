@@ -19,7 +19,7 @@ import json
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, ClassVar
 
-from .engine import Remaining, Study, run_where
+from .engine import EpisodeStudy, Remaining, run_where
 from .episode import EpisodeResult, build, episode_runner, episode_seed
 from .inputs import Inputs, ShippedRunner, capture, versions
 from .methods import Method, method_named
@@ -33,14 +33,13 @@ __all__ = ["Campaign", "CampaignConfig", "Remaining", "build", "episode_runner",
            "lightened", "report_and_records", "report_from_store", "run_campaign"]
 
 
-class Campaign(Study[EpisodeResult]):
+class Campaign(EpisodeStudy):
     """A campaign prepared once: the env made and reset, the policy loaded (a bad behavior file or
     agent fails here, before any episode), the env the policy was trained on checked, and the
     :attr:`plan` made; its unit is an episode, run by the engine (:class:`~.engine.Study`).
     Close it when done (or use it as a context manager)."""
 
     store_kind: ClassVar[type[CampaignStore]] = CampaignStore
-    unit = "episode"
 
     def __init__(self, config: CampaignConfig):
         loader = policy_loader(config.policy.kind)
@@ -94,14 +93,6 @@ class Campaign(Study[EpisodeResult]):
     @classmethod
     def method_of(cls, plan: CampaignConfig) -> Method:
         return method_named(plan.method)(plan.epsilon, plan.delta, plan.episodes)
-
-    @staticmethod
-    def outcome(result: EpisodeResult) -> bool:
-        return result.success
-
-    @staticmethod
-    def seconds(result: EpisodeResult) -> float:
-        return result.seconds
 
     @staticmethod
     def lightened(result: EpisodeResult) -> EpisodeResult:

@@ -24,6 +24,7 @@ from typing import Any, ClassVar, Generic, Protocol, TypeVar
 from . import backends
 from .methods import Decider
 from .ray_connect import RayOptions
+from .records import EpisodeResult
 from .store import CampaignStore, StoreError
 
 
@@ -275,3 +276,18 @@ class Study(abc.ABC, Generic[R]):
             raise StoreError(f"{store.path}: no {cls.unit} is stored yet")
         return (cls.report(plan, results, sum(cls.seconds(r) for r in results), None, None,
                            str(store.path)), plan, results)
+
+
+class EpisodeStudy(Study[EpisodeResult]):
+    """A study whose unit is one episode (a campaign; a study of given seeds): its method
+    observes the episode's success."""
+
+    unit = "episode"
+
+    @staticmethod
+    def outcome(result: EpisodeResult) -> bool:
+        return result.success
+
+    @staticmethod
+    def seconds(result: EpisodeResult) -> float:
+        return result.seconds
