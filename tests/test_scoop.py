@@ -8,6 +8,7 @@ import dataclasses
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -277,3 +278,15 @@ def test_mujoco_imported_first_without_a_display_says_what_to_do():
     out = subprocess.run([sys.executable, "-c", code], env=environ, capture_output=True,
                          text=True, timeout=120)
     assert "set MUJOCO_GL=egl (or osmesa) or import vlb_gym first" in out.stdout, out.stderr
+
+
+def test_the_shipped_behavior_senses_from_the_envs_pose():
+    """The sensing pose is the env's knowledge: the shipped behavior's variable and the search
+    space's constant are the env's one value, written out."""
+    import json
+
+    from vlb_gym.envs.scoop.env import SENSING_POSE_EXPRESSION
+
+    shipped = json.loads((Path(vlb_gym.__file__).parent / "behaviors" /
+                          "scoop_repeatedly.json").read_text())
+    assert shipped["variables"]["sensing_pose"] == SENSING_POSE_EXPRESSION
