@@ -14,10 +14,9 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
+from vlb_gym.core.chat import ChatModel, Message
 from vlb_gym.core.errors import UserError
 from vlb_gym.core.files import InputFileError, load_json, read_limited
-
-Message = dict[str, str]
 
 
 class ModelError(UserError, RuntimeError):
@@ -33,8 +32,9 @@ class ModelError(UserError, RuntimeError):
         self.status, self.body = status, body
 
 
-class ChatBackend(Protocol):
-    """What the generalizer needs from a language model, and what it records of one: ``usage``,
+class ChatBackend(ChatModel, Protocol):
+    """A :class:`~vlb_gym.core.chat.ChatModel` as the generalizer uses it, and what it records of
+    one: ``usage``,
     one entry per draw where the backend measures them (a local model: tokens and seconds),
     else empty; ``dialect``, the structured-output dialect a served model used (None elsewhere
     or before it probed); ``probe_log``, what each probe of ``"auto"`` got."""
@@ -45,10 +45,6 @@ class ChatBackend(Protocol):
 
     @property
     def dialect(self) -> str | None: ...
-
-    def complete(self, messages: Sequence[Message], schema: dict[str, Any] | None = None) -> str:
-        """The model's reply to ``messages``; ``schema`` is the JSON Schema the reply must meet."""
-        ...
 
 
 RESAMPLES = 2

@@ -14,22 +14,15 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated, Any, Literal, Protocol, Union
+from typing import Annotated, Any, Literal, Union
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
+from vlb_gym.core.chat import ChatModel
 from vlb_gym.core.errors import UserError
 from vlb_gym.core.library import BehaviorLibrary
 from vlb_gym.core.spec import BehaviorSpecError
-
-
-class LanguageModel(Protocol):
-    """What the session asks of a model (a :class:`vlb_gym.abstractor.backends.ChatBackend`
-    is one): a reply to chat messages, meeting a JSON schema."""
-
-    def complete(self, messages: Sequence[dict[str, str]],
-                 schema: dict[str, Any] | None = None) -> str: ...
 
 
 MAX_STEP_M = 0.3  # largest translation one call may ask for
@@ -118,7 +111,7 @@ def parse_command(line: str) -> list[Translate | Rotate | Save]:
 class ScoopSetup:
     """A set-up session on a ``VLB-Scoop-v0`` environment (unwrapped ``ScoopEnv``)."""
 
-    def __init__(self, env: Any, image_dir: Path, backend: LanguageModel | None = None,
+    def __init__(self, env: Any, image_dir: Path, backend: ChatModel | None = None,
                  max_rounds: int = 2):
         from vlb_gym.envs.scoop.env import DEFAULT_SENSING_POSE
 
