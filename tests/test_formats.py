@@ -16,7 +16,7 @@ from vlb_gym.core.formats import CURRENT, FormatError, check_format
 from vlb_gym.core.library import BehaviorLibrary, spec_json
 from vlb_gym.core.spec import BehaviorSpecError, parse_spec
 from vlb_gym.verify import comparison
-from vlb_gym.verify.campaign import Campaign, report_from_store
+from vlb_gym.verify.campaign import Campaign, report_from_store, run_campaign
 from vlb_gym.verify.records import CampaignConfig
 from vlb_gym.verify.export import read_export
 from vlb_gym.verify.store import CampaignStore, StoreError, open_readonly
@@ -137,16 +137,45 @@ def test_a_format_2_store_reads_to_the_report_that_was_written_beside_it():
     assert all(node["mean_seconds"] > 0 for node in nodes if node["runs"])
 
 
-def test_a_format_1_store_opened_to_resume_becomes_the_current_format(v1):
-    """A resumed store holds records of the current format from then on: it says so."""
-    CampaignStore(v1 / "campaign.db").close()
-    with sqlite3.connect(v1 / "campaign.db") as db:
-        assert db.execute("PRAGMA user_version").fetchone() == (CURRENT["store"],)
-    store = open_readonly(v1 / "campaign.db")
+def test_a_format_1_store_says_the_current_format_from_its_first_new_record(v1):
+    """Opened (even refused for another plan, or with nothing left to run) a format-1 store is
+    left as it was; a resumed one that gets a new record says the current format."""
+    path = v1 / "campaign.db"
+    before = path.read_bytes()
+    CampaignStore(path).close()
+    done = vlb(*[a if a != "0.1" else "0.2" for a in COMMAND], "--store", "campaign.db", cwd=v1)
+    assert done.returncode == 2 and "holds another campaign" in done.stderr
+    assert path.read_bytes()[:100] == before[:100]  # the header: user_version still 0
+    # a format-1 store of a campaign this tree can resume (the fixture's plan names the folder
+    # it was written in): today's store written back as format 1 wrote it
+    config = CampaignConfig("VLB-GridExplore-v0", "explore_until_goal", 30, 0.1)
+    path = v1 / "mine.db"
+    store = CampaignStore(path)
     try:
-        assert len(store.results()) == 30
+        run_campaign(config, store=store)
     finally:
         store.close()
+    with sqlite3.connect(path) as db:
+        for idx, text in db.execute("SELECT idx, record FROM episodes").fetchall():
+            record = json.loads(text)
+            record["steps"] = [step[:-1] for step in record["steps"]]  # no time: format 1
+            db.execute("UPDATE episodes SET record = ? WHERE idx = ?", (json.dumps(record), idx))
+        db.execute("DELETE FROM episodes WHERE idx >= 25")
+        db.execute("PRAGMA user_version=0")
+    store = CampaignStore(path)
+    try:
+        report = run_campaign(config, store=store)
+    finally:
+        store.close()
+    assert report["episodes"] == 30
+    with sqlite3.connect(path) as db:
+        assert db.execute("PRAGMA user_version").fetchone() == (CURRENT["store"],)
+    reader = open_readonly(path)
+    try:
+        steps = [e.steps for e in reader.results()]
+    finally:
+        reader.close()
+    assert steps[0][0]["seconds"] is None and steps[-1][0]["seconds"] > 0  # both formats read
 
 
 def test_a_format_1_comparison_store_reads(v1, monkeypatch):

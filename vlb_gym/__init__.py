@@ -39,8 +39,9 @@ for _id, _entry_point, _steps in ENVS + RL_TASKS:
     if _id not in registry:
         register(id=_id, entry_point=_entry_point, max_episode_steps=_steps)
 
-__getattr__, __dir__, _lazy = lazy_names(__name__, globals(), {
+__getattr__, __dir__, _names = lazy_names(__name__, globals(), {
     ".core": ("BehaviorPolicy", "BehaviorSpecError", "load_behavior", "shipped_behaviors"),
     ".core.errors": ("UserError",),
     ".wrappers": ("BehaviorAgent", "BehaviorFinished", "RobustnessWrapper")})
-__all__ = ["ENV_IDS", "ENVS", "RL_TASKS", "__version__", *_lazy]
+__all__ = ["ENV_IDS", "ENVS", "RL_TASKS", "__version__", *_names]
+del _names

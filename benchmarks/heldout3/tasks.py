@@ -22,7 +22,7 @@ from pathlib import Path
 
 from benchmarks.synthesis_tasks import (Task, cell, exhausted, known_after, moves, neighbours,
                                         reachable)
-from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED
+from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
 SCOOP = "VLB-Scoop-v0"

@@ -271,8 +271,7 @@ def add_backend_options(p: argparse.ArgumentParser, items: str) -> None:
     """``--backend``, ``--ray-address`` and ``--ray-timeout``."""
     p.add_argument("--backend", type=backend_name, default="process", metavar="BACKEND",
                    help=f"where {items} run: serial (this process), process (worker processes "
-                   "on this machine), ray (Ray actors: extra 'ray', see docs/ray.md), or one a "
-                   "module registered (docs/architecture.md); results are identical "
+                   "on this machine) or ray (Ray actors: extra 'ray', see docs/ray.md); results are identical "
                    "whatever the backend")
     p.add_argument("--ray-address", metavar="ADDRESS",
                    help="with --backend ray: an existing cluster, HOST:PORT of its head (GCS), "

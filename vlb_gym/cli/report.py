@@ -103,8 +103,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     t.add_argument("store", metavar="STORE",
                    help="the SQLite file given to vlb verify (or vlb compare) --store")
     t.add_argument("--json", action="store_true",
-                   help="print the JSON report (with each node's steps, failures by kind and "
-                   "mean step time, under \"nodes\")")
+                   help="print the JSON report (a campaign's with each node's steps, failures by "
+                   "kind and mean step time, under \"nodes\")")
     t.add_argument("--out", metavar="DIR",
                    help="write report.json, report.md (with figures/) and a self-contained "
                    "report.html here: the claim in words, failures by cause with replay "

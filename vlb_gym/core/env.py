@@ -217,6 +217,7 @@ class PrimitiveEnv(gym.Env, Generic[State], abc.ABC):
         """Continue from what :meth:`save` returned (which stays as it was)."""
         state, generator = saved
         self._state = copy.deepcopy(state)
+        self.last_outcome = None
         self.np_random.bit_generator.state = copy.deepcopy(generator)
 
     @property

@@ -17,7 +17,7 @@ import dataclasses
 import functools
 import json
 from collections.abc import Callable, Iterator, Sequence
-from typing import Any, ClassVar
+from typing import ClassVar
 
 from .engine import EpisodeStudy, Remaining, run_where
 from .episode import EpisodeResult, build, episode_runner, episode_seed

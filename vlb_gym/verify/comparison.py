@@ -5,8 +5,8 @@ A :class:`ComparisonConfig` names A and B (policy references, each with its own 
 added to the shared ones), the margin, the level and the method. :class:`Comparison` prepares
 the two sides as campaigns (each env made and checked, each policy loaded, an agent on the env
 it was trained on) and makes the plan; pair ``i`` runs episode ``i`` of A and episode ``i`` of B,
-both reset with the campaign seed's ``i``-th child (:func:`~.campaign.episode_seed`), on the
-backends, store and resume machinery of campaigns (:mod:`.campaign`). The report
+both reset with the campaign seed's ``i``-th child (:func:`~.records.episode_seed`), run by the
+engine as campaigns are (:class:`~.engine.Study`: backends, store and resume). The report
 (:class:`ComparisonReport`) is built from the plan and the pairs alone.
 """
 
@@ -16,7 +16,7 @@ import dataclasses
 import functools
 import platform
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from vlb_gym.core.formats import CURRENT
@@ -25,9 +25,8 @@ from .campaign import Campaign, CampaignConfig, episode_runner, lightened
 from .engine import Study, run_where
 from .episode import EpisodeResult
 from .inputs import ShippedRunner
-from .paired import DEFAULT_MAX_PAIRS, claim_words
-from .paired_methods import FixedPairs, PairedMethod, paired_method_named
-from .policies import PolicyRef
+from .paired import claim_words
+from .paired_methods import PairedMethod, paired_method_named
 from .ray_connect import RayOptions
 from .records import ComparisonConfig, ComparisonPlan, PairResult, Plan
 from .report import (JsonReport, failures_by_cause, one_line, replay_command, shown_path,

@@ -139,9 +139,6 @@ def run_where(setup: Callable[[], Callable[[int], R]],
                                 preload=["vlb_gym.verify.campaign", *env_preload])
 
 
-S = TypeVar("S", bound=CampaignStore)
-
-
 class Study(abc.ABC, Generic[R]):
     """A study prepared once (its :attr:`plan` made, its inputs checked) whose units ``R`` run by
     index until its statistical method has decided. Subclasses say what a unit is; the run loop,
@@ -279,8 +276,8 @@ class Study(abc.ABC, Generic[R]):
 
 
 class EpisodeStudy(Study[EpisodeResult]):
-    """A study whose unit is one episode (a campaign; a study of given seeds): its method
-    observes the episode's success."""
+    """A study whose unit is one episode (a campaign): its method observes the episode's
+    success."""
 
     unit = "episode"
 

@@ -352,7 +352,7 @@ class ComparisonConfig:
     b_env_kwargs: dict[str, Any] = field(default_factory=dict)
     stop_on_failure: bool = True
     env_modules: Modules = ()
-    method: Annotated[str, AfterValidator(_known_paired_method)] = FixedN.name
+    method: Annotated[str, AfterValidator(_known_paired_method)] = "fixed-N"  # FixedPairs.name
 
     def __post_init__(self) -> None:
         from .paired import DEFAULT_MAX_PAIRS

@@ -47,8 +47,6 @@ def failures_by_cause(results: Sequence[EpisodeResult], examples: int = 3) -> li
             for cause, failed in sorted(groups.items(), key=lambda item: -len(item[1]))]
 
 
-
-
 def replay_command(policy: Mapping[str, Any], env_id: str, env_kwargs: Mapping[str, Any],
                    env_modules: Sequence[str], seed: int) -> str | None:
     """The ``vlb replay`` command that re-runs ``policy`` from reset seed ``seed`` (None for a

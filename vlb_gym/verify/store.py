@@ -95,10 +95,10 @@ class CampaignStore:
         self.db.execute("PRAGMA synchronous=NORMAL")
         # checkpoints (which fsync) every 32 MiB of log rather than SQLite's 4 MiB
         self.db.execute("PRAGMA wal_autocheckpoint=8192")
-        # the format: a store resumed from an earlier one holds records of this one from now
-        self.db.execute(f"PRAGMA user_version={CURRENT['store']}")
+        self._current = fresh  # whether the store says the format its new records are in
         if fresh:
             self.db.execute(f"PRAGMA application_id={self.application_id}")
+            self.db.execute(f"PRAGMA user_version={CURRENT['store']}")  # the format
             self.db.execute("CREATE TABLE IF NOT EXISTS plan "
                             "(id INTEGER PRIMARY KEY CHECK (id = 1), plan TEXT NOT NULL)")
             self.db.execute("CREATE TABLE IF NOT EXISTS episodes (idx INTEGER PRIMARY KEY, "
@@ -193,8 +193,12 @@ class CampaignStore:
         return {row[0] for row in self._rows("SELECT idx FROM episodes")}
 
     def add(self, result: EpisodeResult) -> None:
-        """Store one finished episode (its own transaction: durable once this returns)."""
+        """Store one finished episode (its own transaction: durable once this returns). A store
+        of an earlier format says the current one from its first new record on."""
         try:
+            if not self._current:
+                self.db.execute(f"PRAGMA user_version={CURRENT['store']}")
+                self._current = True
             self.db.execute("INSERT INTO episodes (idx, record) VALUES (?, ?)",
                             (result.index, self._encode(result)))
         except sqlite3.DatabaseError as exc:  # a full disk, a file size limit, ...
