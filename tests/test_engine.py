@@ -54,7 +54,7 @@ def test_a_registered_backend_runs_campaigns_and_comparisons(toy_backend, method
     assert toy["counts"] == serial["counts"] and toy["p_value"] == serial["p_value"]
 
 
-class FixedSeeds(EpisodeStudy):
+class FixedSeeds(EpisodeStudy[dict]):
     """A toy kind of study: a behavior on a list of reset seeds given in advance (say, the
     failures of another campaign), judged fixed-N."""
 

@@ -33,7 +33,7 @@ __all__ = ["Campaign", "CampaignConfig", "Remaining", "build", "episode_runner",
            "lightened", "report_and_records", "report_from_store", "run_campaign"]
 
 
-class Campaign(EpisodeStudy):
+class Campaign(EpisodeStudy[Report]):
     """A campaign prepared once: the env made and reset, the policy loaded (a bad behavior file or
     agent fails here, before any episode), the env the policy was trained on checked, and the
     :attr:`plan` made; its unit is an episode, run by the engine (:class:`~.engine.Study`).

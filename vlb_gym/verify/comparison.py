@@ -61,7 +61,7 @@ class ShippedPair:
         return pair_runner(self.a.config, self.b.config, (self.a.build(), self.b.build()))
 
 
-class Comparison(Study[PairResult]):
+class Comparison(Study[PairResult, "ComparisonReport"]):
     """A comparison prepared once: both sides' campaigns (a bad file or agent fails here, before
     any pair) and the :attr:`plan`; its unit is a pair, run by the engine
     (:class:`~.engine.Study`). Close it when done (or use it as a context manager)."""

@@ -46,6 +46,7 @@ class Decides(Protocol):
 
 
 R = TypeVar("R", bound=Indexed)
+Rep = TypeVar("Rep")  # a kind of study's report
 
 
 @dataclass(frozen=True)
@@ -139,7 +140,7 @@ def run_where(setup: Callable[[], Callable[[int], R]],
                                 preload=["vlb_gym.verify.campaign", *env_preload])
 
 
-class Study(abc.ABC, Generic[R]):
+class Study(abc.ABC, Generic[R, Rep]):
     """A study prepared once (its :attr:`plan` made, its inputs checked) whose units ``R`` run by
     index until its statistical method has decided. Subclasses say what a unit is; the run loop,
     the store and resume rules and the report from a store are this class's, for every kind."""
@@ -169,7 +170,7 @@ class Study(abc.ABC, Generic[R]):
     @classmethod
     @abc.abstractmethod
     def report(cls, plan: Any, results: Sequence[R], seconds: float, workers: int | None,
-               backend: str | None, store: str | None = None, ran: int | None = None) -> Any:
+               backend: str | None, store: str | None = None, ran: int | None = None) -> Rep:
         """The report of ``plan`` from ``results`` (``ran`` of them run now, the others
         resumed); ``workers`` and ``backend`` None for a report rebuilt from a store."""
 
@@ -201,7 +202,7 @@ class Study(abc.ABC, Generic[R]):
 
     def run(self, workers: int = 1, on_result: Callable[[R], None] | None = None,
             store: CampaignStore | None = None, backend: str = "process",
-            ray: RayOptions | None = None) -> Any:
+            ray: RayOptions | None = None) -> Rep:
         """Run the study and return its report; ``on_result`` sees each unit as it lands.
 
         Units run until the statistical method (:mod:`~vlb_gym.verify.methods`) has
@@ -260,7 +261,7 @@ class Study(abc.ABC, Generic[R]):
         return store
 
     @classmethod
-    def from_store(cls, store: CampaignStore) -> tuple[Any, Any, list[R]]:
+    def from_store(cls, store: CampaignStore) -> tuple[Rep, Any, list[R]]:
         """The report of the study ``store`` holds, rebuilt from the store alone (complete or
         not), with the plan and the units it was built from (read once: a study may be adding
         units meanwhile). The store does not record how the study ran (workers, backend): those
@@ -275,7 +276,7 @@ class Study(abc.ABC, Generic[R]):
                            str(store.path)), plan, results)
 
 
-class EpisodeStudy(Study[EpisodeResult]):
+class EpisodeStudy(Study[EpisodeResult, Rep]):
     """A study whose unit is one episode (a campaign): its method observes the episode's
     success."""
 
