@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, moves,
-                                        neighbours, reachable)
+from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense,
+                                        grams_in_receiver, moves, neighbours, reachable, scoops)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -211,35 +211,21 @@ def check_sense_free_neighbours(state, result):
     return None
 
 
-def _scoops(result) -> list[dict]:
-    return [s for s in result.steps if s["primitive"] == "scoop"]
-
-
 def check_scoop_twice(state, result):
-    n = len(_scoops(result))
+    n = len(scoops(result))
     return None if n == 2 and len(result.steps) == 2 else f"{n} scoop(s)"
 
 
-def _in_receiver(state) -> float:
-    """Grams of grains in the receiver now, counted from the simulation."""
-    from vlb_gym.envs.scoop.controller import RECEIVER_HALF, RECEIVER_WALL, grains_in_box
-    from vlb_gym.envs.scoop.scene import GRAIN_MASS
-
-    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
-    inside = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
-    return float(inside.sum()) * GRAIN_MASS * 1000
-
-
 def check_one_good_scoop(state, result):
-    n = len(_scoops(result))
+    n = len(scoops(result))
     if len(result.steps) != 1 or n != 1:
         return f"{n} scoop(s)"
-    mass = _in_receiver(state)
+    mass = grams_in_receiver(state)
     return None if mass >= 20 else f"{mass:.1f} g in the receiver"
 
 
 def check_three_scoops(state, result):
-    n = len(_scoops(result))
+    n = len(scoops(result))
     return None if n == 3 and len(result.steps) == 3 else f"{n} scoop(s)"
 
 

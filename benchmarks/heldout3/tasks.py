@@ -20,8 +20,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, known_after, moves, neighbours,
-                                        reachable)
+from benchmarks.synthesis_tasks import (Task, cell, exhausted, grams_in_receiver,
+                                        known_after, moves, neighbours, reachable, scoops)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -206,30 +206,16 @@ def check_smallest_neighbour_and_back(state, result):
     return _same(_steps(result), want)
 
 
-def _scoops(result) -> list[dict]:
-    return [s for s in result.steps if s["primitive"] == "scoop"]
-
-
-def _in_receiver(state) -> float:
-    """Grams of grains in the receiver now, counted from the simulation."""
-    from vlb_gym.envs.scoop.controller import RECEIVER_HALF, RECEIVER_WALL, grains_in_box
-    from vlb_gym.envs.scoop.scene import GRAIN_MASS
-
-    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
-    inside = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
-    return float(inside.sum()) * GRAIN_MASS * 1000
-
-
 def check_four_scoops(state, result):
-    n = len(_scoops(result))
+    n = len(scoops(result))
     return None if n == 4 and len(result.steps) == 4 else f"{n} scoop(s)"
 
 
 def check_two_scoops_40g(state, result):
-    n = len(_scoops(result))
+    n = len(scoops(result))
     if len(result.steps) != 2 or n != 2:
         return f"{n} scoop(s)"
-    mass = _in_receiver(state)
+    mass = grams_in_receiver(state)
     return None if mass >= 40 else f"{mass:.1f} g in the receiver"
 
 

@@ -129,6 +129,21 @@ def exhausted(state: GridState, known: np.ndarray | None = None) -> bool:
     return bool(known[near].all())
 
 
+def scoops(result: EpisodeResult) -> list[dict]:
+    """The scoop steps of an episode (the held-out sets' scooping checks)."""
+    return [s for s in result.steps if s["primitive"] == "scoop"]
+
+
+def grams_in_receiver(state: Any) -> float:
+    """Grams of grains in a scoop state's receiver now, counted from the simulation."""
+    from vlb_gym.envs.scoop.controller import RECEIVER_HALF, RECEIVER_WALL, grains_in_box
+    from vlb_gym.envs.scoop.scene import GRAIN_MASS
+
+    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
+    inside = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
+    return float(inside.sum()) * GRAIN_MASS * 1000
+
+
 def at_start(state: GridState) -> str | None:
     """None if the agent ended in its start cell, else where it ended."""
     if state.cell != state.start_cell:
