@@ -210,6 +210,16 @@ EPISODE_EDITS = {
     "seconds-infinite": lambda record: record.update(seconds=float("inf")),
     # finite, but two such records sum to infinity (report --json would print Infinity)
     "seconds-past-a-year": lambda record: record.update(seconds=1e308),
+    # a step's own time (format 2): a number of seconds, finite, at most a year, or null
+    "step-seconds-negative": lambda record: record["steps"][0].__setitem__(6, -1.0),
+    "step-seconds-infinite": lambda record: record["steps"][0].__setitem__(6, float("inf")),
+    "step-seconds-past-a-year": lambda record: record["steps"][0].__setitem__(6, 1e308),
+    "step-seconds-text": lambda record: record["steps"][0].__setitem__(6, "0.1"),
+    "step-seconds-true": lambda record: record["steps"][0].__setitem__(6, True),
+    "step-seconds-list": lambda record: record["steps"][0].__setitem__(6, [0.1]),
+    "step-seconds-huge-int": lambda record: record["steps"][0].__setitem__(6, 10**400),
+    "step-of-five-fields": lambda record: record["steps"][0].__delitem__(slice(5, None)),
+    "step-of-eight-fields": lambda record: record["steps"][0].append(0.1),
 }
 
 
