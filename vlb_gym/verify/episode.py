@@ -87,7 +87,8 @@ def run_episode(env: RobustnessWrapper, policy: Policy, seed: int, index: int = 
         steps.append(step_record(info, state if isinstance(state, str) else None, now - last))
         if on_step is not None:
             on_step(info)
-        last = time.perf_counter()
+            now = time.perf_counter()  # the callback's time is no step's
+        last = now
 
     try:
         episode.reset(seed=seed, on_reset=begin)
