@@ -17,7 +17,8 @@ from vlb_gym.abstractor.beliefs import numbers, readings
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
-from vlb_gym.abstractor.search import Search
+from vlb_gym.abstractor.programs import CHOSEN, Act, Program
+from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Search
 from vlb_gym.core.library import load_behavior
 from vlb_gym.core.spec import Promise, spec_from_data
 from vlb_gym.verify import run_episode
@@ -96,6 +97,56 @@ def test_a_promise_no_behavior_keeps_is_searched_within_its_budget():
     try:
         assert search.find(60, max_programs=300) is None
         assert search.tally.built == 300
+    finally:
+        search.close()
+
+
+# heldout2's sense_goal_or_stay (development data): a goal right beside the start is rare, so
+# "go to a known goal" acts on no probe episode of seed 12345 and is pruned as acting like
+# "sense" until an episode with such a goal fails "sense" and joins the probes
+GOAL_OR_STAY = Promise(expr="sensed() == [start_cell()] and (primitives() == ['sense', "
+                       "'navigate'] and is_goal(final_cell()) if any(is_goal(c) for c in "
+                       "neighbours(start_cell())) else primitives() == ['sense'])")
+
+
+def test_an_episode_a_found_behavior_fails_joins_the_probes():
+    search = Search(GRID_ID, GOAL_OR_STAY, "sense; step onto a goal beside you, if any",
+                    screen_seed=12345)
+    try:
+        found = search.find(60)
+        assert found is not None and "navigate" in found.program.words()
+        assert PROBES < len(search.probes) <= MAX_PROBES
+        assert search.probes[:PROBES] == search.seeds[:PROBES]
+        assert set(search.probes) <= set(search.seeds)
+        assert search.keeps(found.program)
+        assert not search.keeps(Program((Act("sense", "current_cell()"),)))
+        assert search.rescreen(search.document(found, "goal_or_stay", "")) is None
+    finally:
+        search.close()
+
+
+# heldout2's sense_free_neighbours (development data): visiting each once needs "a neighbour
+# not yet in path", chosen before path records it
+VISIT_NEIGHBOURS = Promise(expr=(
+    "primitives()[0] == 'sense' and sensed()[0] == start_cell() and final_cell() == "
+    "start_cell() and all(c == start_cell() for c in moves()[1::2]) and sorted(moves()[0::2]) "
+    "== sorted([n for n in neighbours(start_cell()) if not is_obstacle(n)]) and all(c in "
+    "sensed() for c in moves()[0::2])"))
+
+
+def test_memory_of_visits_is_searched_and_written_as_the_runtime_runs_it():
+    search = Search(GRID_ID, VISIT_NEIGHBOURS, "visit each free neighbour, sensing, and come "
+                    "back each time", screen_seed=12345)
+    try:
+        found = search.find(120)
+        assert found is not None and "not in path" in found.program.words()
+        document = search.document(found, "neighbours", "")
+        entering = [e for e in document["edges"] if "not in path" in e.get("set", {}).get(
+            CHOSEN, "")]
+        assert entering and all(e["param"] == CHOSEN and e["set"]["path"] == f"path + [({CHOSEN})]"
+                                for e in entering)
+        assert document["variables"][CHOSEN] == "current_cell()"
+        assert search.rescreen(document) is None  # the runtime chooses as the executor did
     finally:
         search.close()
 

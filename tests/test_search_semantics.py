@@ -20,7 +20,8 @@ GRID_ID = "VLB-GridExplore-v0"
 SENSE = Act("sense", "current_cell()")
 TARGETS = ["current_cell()", "home", "frontier_cells()[0]", "explored()[-1]", "goal_cell()",
            "beside(current_cell(), 'right')", "[c for c in adjacent() if is_free(c)][0]",
-           "path[-2]"]
+           "path[-2]", "[c for c in adjacent(home) if c not in path][0]",
+           "[c for c in explored() if c not in path][-1]"]  # (these two read what they update)
 GUARDS = ["goal_found()", "not goal_found()", "len(explored()) < 12", "True",
           "is_free(beside(current_cell(), 'up'))", "len(path) < 4",
           "len([c for c in explored() if label(c) == 'goal']) == 0"]

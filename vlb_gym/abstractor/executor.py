@@ -28,7 +28,7 @@ from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import Act, If, Statement, Use, _list_of, _substitute
+from .programs import Act, If, Statement, Use, _list_of, _substitute, chosen_first
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
 
@@ -276,12 +276,16 @@ class Executor:
         if isinstance(act, Use):
             self._use(run, act.behavior)
             return
-        for memory in self.space.memory:
-            for primitive, update in memory.updates:
-                if primitive == act.primitive:
-                    value = self._value(_substitute(update, "PARAM", act.param), namespace)
-                    run.variables[memory.name] = namespace[memory.name] = value
-        param = self._value(act.param, namespace)
+        updates = [(m.name, update) for m in self.space.memory
+                   for primitive, update in m.updates if primitive == act.primitive]
+        first = chosen_first(act.param, [name for name, _ in updates])
+        if first:  # from the memory as it was
+            param = self._value(act.param, namespace)
+        for name, update in updates:
+            value = self._value(_substitute(update, "PARAM", act.param), namespace)
+            run.variables[name] = namespace[name] = value
+        if not first:
+            param = self._value(act.param, namespace)
         try:
             action = self.interface.encode_action(act.primitive, param)
         except ValueError as exc:

@@ -26,6 +26,7 @@ from typing import Any
 from vlb_gym.core.search_space import SearchSpace
 
 END = "<end>"
+CHOSEN = "chosen"  # the variable a parameter that reads updated memory is chosen into
 
 
 @dataclass(frozen=True)
@@ -96,6 +97,15 @@ class Program:
         return _Writer(self, space).document(name, description, env_id)
 
 
+def chosen_first(param: str, updated: list[str]) -> bool:
+    """Whether a parameter is evaluated before its act's memory updates rather than after: one
+    that keeps only what an updated memory does not hold (``c not in path``: "a goal not yet
+    stood on"), which after the update would never be the cell it is about to add. Any other
+    reads the memory as updated (``path[-2]`` is then the cell before the one moved to, as a
+    promise's ``moves()[-2]`` reads it after the move)."""
+    return any(f" not in {name}" in param for name in updated)
+
+
 def _ids(k: int, body: tuple[Act, ...]) -> list[str]:
     return [f"s{k}_{j}" for j in range(len(body))]
 
@@ -144,6 +154,13 @@ class _Writer:
         first = self.statements[0]
         if not isinstance(first, (Act, Use)):
             raise ValueError("a program begins with an act or a library behavior")
+        updated = [m for m in space.memory if isinstance(first, Act) and any(
+            primitive == first.primitive for primitive, _ in m.updates)]
+        if isinstance(first, Act) and chosen_first(first.param, [m.name for m in updated]):
+            param = first.param  # chosen from the memory's initial values
+            for memory in updated:
+                param = _substitute(param, memory.name, memory.initial)
+            self.statements = (Act(first.primitive, param), *self.statements[1:])
 
     def _node(self, k: int, j: int = 0) -> str:
         return "s0" if k == 0 else f"s{k}_{j}"
@@ -192,11 +209,23 @@ class _Writer:
         return self._enter(k + 1)
 
     def _updates(self, act: Act | Use) -> list[tuple[str, str]]:
+        """The assignments entering ``act``: the memory it updates. A parameter chosen before
+        that memory (:func:`chosen_first`) is assigned to :data:`CHOSEN` first (the runtime
+        evaluates a node's parameter after its edge's assignments)."""
         if isinstance(act, Use):
             return []
-        return [(m.name, _substitute(update, "PARAM", act.param))
-                for m in self.space.memory for primitive, update in m.updates
-                if primitive == act.primitive]
+        updates = [(m.name, update) for m in self.space.memory
+                   for primitive, update in m.updates if primitive == act.primitive]
+        if self._chooses(act, updates):
+            return [(CHOSEN, act.param)] + [(name, _substitute(update, "PARAM", CHOSEN))
+                                            for name, update in updates]
+        return [(name, _substitute(update, "PARAM", act.param)) for name, update in updates]
+
+    def _chooses(self, act: Act, updates: list[tuple[str, str]]) -> bool:
+        """Whether ``act``'s parameter is chosen before the memory it updates (see
+        :func:`chosen_first`; and the space says where the agent is, to start
+        :data:`CHOSEN` from)."""
+        return bool(self.space.here) and chosen_first(act.param, [n for n, _ in updates])
 
     def document(self, name: str, description: str, env_id: str) -> dict[str, Any]:
         acts = dict(self._acts())
@@ -218,9 +247,9 @@ class _Writer:
                 edge: dict[str, Any] = {"from": source, "to": target}
                 if conjunction(guard) != "True":
                     edge["guard"] = conjunction(guard)
-                if isinstance(to, Act):
-                    edge["param"] = to.param
                 sets = dict(assignments + self._updates(to))
+                if isinstance(to, Act):
+                    edge["param"] = CHOSEN if CHOSEN in sets else to.param
                 if sets:
                     edge["set"] = sets
                 edges.append(edge)
@@ -236,6 +265,8 @@ class _Writer:
         for k, statement in enumerate(self.statements):
             if isinstance(statement, Loop) and statement.limit is not None:
                 variables[f"n{k}"] = "0"
+        if any(CHOSEN in dict(self._updates(act)) for _, act in self._acts()):
+            variables[CHOSEN] = self.space.here[1]  # type: ignore[index]
         return {"name": name, "description": description, "env": env_id,
                 "variables": variables,
                 "nodes": [{"id": node, "behavior": act.behavior} if isinstance(act, Use) else

@@ -6,14 +6,22 @@ readings (:mod:`~vlb_gym.abstractor.beliefs`) and the request's constants; progr
 statement by statement, cheapest first (best-first over prefixes, each prefix's children in
 order of cost).
 
-The search is *execution-guided*: a prefix is run once on the first :data:`PROBES` screening
-episodes, from its parent's saved states (:mod:`~vlb_gym.abstractor.executor`). A prefix that
-fails one of them (a certificate, its own logic, the step bound) is dropped with everything
-that would extend it; a prefix that acts on those episodes exactly as one already seen (the
-same steps and memory: *observational equivalence* of behaviors) or as its parent does, is
-counted once. Every prefix is also a whole behavior: one whose promise holds on the probe
-episodes is screened on the rest (``screening`` episodes of a fresh root seed, stopped at the
-first failure), then re-run through the package's own runtime.
+The search is *execution-guided*: a prefix is run once on the *probe* episodes (at first the
+first :data:`PROBES` screening episodes), from its parent's saved states
+(:mod:`~vlb_gym.abstractor.executor`). A prefix that fails one of them (a certificate, its own
+logic, the step bound) is dropped with everything that would extend it; a prefix that acts on
+those episodes exactly as one already seen (the same steps and memory: *observational
+equivalence* of behaviors) or as its parent does, is counted once. Every prefix is also a whole
+behavior: one whose promise holds on the probe episodes is screened on the rest (``screening``
+episodes of a fresh root seed, stopped at the first failure), then re-run through the package's
+own runtime.
+
+The probes are *counterexample-guided*: where a whole behavior that kept the promise on every
+probe fails on another screening episode, that episode joins the probes (up to
+:data:`MAX_PROBES`) and the search starts again from the empty program. Observational
+equivalence on a few episodes can hide what only rarer ones need (a goal right beside the start,
+no corner reachable): a statement that acts on none of the probes is dropped as acting like its
+parent, and the episode that tells them apart brings it back.
 
 :func:`witnesses` tries a promise on the env's least behaviors (stop at once, ...) first: a
 promise one of them keeps asks for nothing more than it does.
@@ -45,6 +53,7 @@ from .statements import Statements
 from .terms import Bank, Vocabulary, call_name, conforms, contexts, infer_kind
 
 PROBES = 4
+MAX_PROBES = 8  # probes, counterexamples included
 PROGRESS_WEIGHT = 4.0
 STEP_WEIGHT = 0.05
 LOOK_FURTHER = 0.5  # of the programs built before the first find, built after it
@@ -126,6 +135,8 @@ class Search:
         self.space: SearchSpace = space
         self.screen_seed = fresh_seed() if screen_seed is None else screen_seed
         self.seeds = [episode_seed(self.screen_seed, i) for i in range(space.screening)]
+        self.probes = self.seeds[:PROBES]  # grows by counterexamples (see the module's docstring)
+        self._counterexample: int | None = None
         bounds = [self.env.spec.max_episode_steps if self.env.spec else None, space.max_steps]
         self.library = library
         self.name = name
@@ -261,13 +272,16 @@ class Search:
         statements = self.statements()
         completions = statements.completions()
         order = itertools.count()
-        root = _Node((), 0, [])
-        heap: list[tuple[float, int, _Node, int, int]] = [(1, next(order), root, 1, 0)]
+        heap: list[tuple[float, int, _Node, int, int]] = [(1, next(order), _Node((), 0, []), 1, 0)]
         seen: set[Any] = set()
         best: tuple[int, int, Found] | None = None
         until: int | None = None  # programs built when the search stops looking further
         try:
             while heap:
+                if self._counterexample is not None:  # a new probe: begin again
+                    self.probes.append(self._counterexample)
+                    self._counterexample = None
+                    heap, seen = [(1, next(order), _Node((), 0, []), 1, 0)], set()
                 if time.perf_counter() - started > time_limit or (
                         max_programs is not None and self.tally.built >= max_programs) or (
                         until is not None and self.tally.built >= until):
@@ -289,7 +303,8 @@ class Search:
                         r.status == OPEN for r in child.runs):
                     heapq.heappush(heap, (child.priority(1), next(order), child, 1, 0))
                     grown += [done for act in (completions if child.program else ())
-                              if (done := self._child(child, act, child.cost + 1, seen))]
+                              if (max_programs is None or self.tally.built < max_programs)
+                              and (done := self._child(child, act, child.cost + 1, seen))]
                 for candidate in grown:
                     steps = self._accept(candidate, skip)
                     if steps is None:
@@ -319,7 +334,7 @@ class Search:
         self.tally.built += 1
         index = len(node.program)
         runs = []
-        for e, seed in enumerate(self.seeds[:PROBES]):
+        for e, seed in enumerate(self.probes):
             if not node.program:
                 run = self.executor.start(seed, statement)
             else:
@@ -340,14 +355,20 @@ class Search:
     def _whole(self, node: _Node) -> int | None:
         """The primitives ``node``'s program, ending there, runs on the screening episodes if
         it keeps the promise on every one (the probes' runs were judged; the rest run from
-        their resets), else None."""
+        their resets), else None; the first episode it fails on becomes a probe while there
+        are fewer than :data:`MAX_PROBES`."""
         self.tally.judged += 1
         steps = sum(len(r.history) for r in node.runs)
-        for seed in self.seeds[PROBES:]:
+        probes = set(self.probes)
+        for seed in self.seeds:
+            if seed in probes:
+                continue
             run = self._run(seed, node.program)
             why = self.executor.judge(run)
             if why is not None:
                 self._note(node, why)
+                if len(self.probes) < MAX_PROBES and self._counterexample is None:
+                    self._counterexample = seed
                 return None
             steps += len(run.history)
         return steps

@@ -93,24 +93,37 @@ class Statements:
         return [*self.acts(cost), *(Use(b) for b in self.behaviors if cost == USE)]
 
     def _generate(self, cost: int) -> Iterator[Statement]:
+        """Acts, library behaviors, then loops and conditionals with bodies of each length in
+        turn (one of each length at a time: where :data:`MAX_PER_COST` cuts, no length of
+        body is cut whole)."""
         yield from self.acts(cost)
         if cost == USE:
             yield from (Use(b) for b in self.behaviors)
-        for length in range(1, MAX_BODY + 1):
-            for body_cost in range(length, cost):
-                bodies = self.bodies(body_cost, length)
-                if not bodies:
-                    continue
-                rest = cost - body_cost
-                if rest == 1:  # a loop over a list, ended by it
-                    yield from (Loop("True", b) for b in bodies if _list_of(b[0].param))
-                if rest == 3 and length <= 2:
-                    yield from (Loop("True", b, k) for k in self.limits for b in bodies)
-                for guard in self.guards(rest - 2):
-                    yield from (Loop(guard, b) for b in bodies)
-                if length <= 2:
-                    for guard in self.guards(rest - 3):
-                        yield from (If(guard, b) for b in bodies)
+        families = [self._compound(cost, length) for length in range(1, MAX_BODY + 1)]
+        while families:
+            for family in list(families):
+                statement = next(family, None)
+                if statement is None:
+                    families.remove(family)
+                else:
+                    yield statement
+
+    def _compound(self, cost: int, length: int) -> Iterator[Statement]:
+        """Loops and conditionals of ``cost`` whose bodies hold ``length`` acts."""
+        for body_cost in range(length, cost):
+            bodies = self.bodies(body_cost, length)
+            if not bodies:
+                continue
+            rest = cost - body_cost
+            if rest == 1:  # a loop over a list, ended by it
+                yield from (Loop("True", b) for b in bodies if _list_of(b[0].param))
+            if rest == 3 and length <= 2:
+                yield from (Loop("True", b, k) for k in self.limits for b in bodies)
+            for guard in self.guards(rest - 2):
+                yield from (Loop(guard, b) for b in bodies)
+            if length <= 2:
+                for guard in self.guards(rest - 3):
+                    yield from (If(guard, b) for b in bodies)
 
     def completions(self) -> list[Act]:
         """Acts to try at once after every prefix: those whose parameter is read from the

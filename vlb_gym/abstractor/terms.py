@@ -286,6 +286,7 @@ class Bank:
             return
         if cost == 2 and depth == 0:
             yield from self._seeking()
+            yield from self._unvisited()
         if cost == 2 and depth == 0:
             for name, (params, result) in v.helpers.items():
                 if not params and name not in v.cheap:
@@ -313,6 +314,24 @@ class Bank:
                 yield Term(found, f"list[{kind}]", 2)
                 yield Term(f"len({found}) == 0", "bool", 2)
                 yield Term(f"len({found}) > 0", "bool", 2)
+
+    def _unvisited(self) -> Iterator[Term]:
+        """What visiting each of some places once needs, at a discount: each cheapest list
+        less what a memory list holds (``[c for c in L if c not in M]``, M the cells moved
+        to: "the goals not yet visited"), kept whatever it means on the contexts (their
+        short rollouts seldom tell it from ``L``)."""
+        if not self._binder_kind:
+            return
+        var, kind = BOUND[0], self._binder_kind[0]
+        for memory, memory_kind in self.vocabulary.variables.items():
+            if memory_kind != f"list[{kind}]":
+                continue
+            for xs in self.of(memory_kind, 0, 1):
+                if memory in xs.text:
+                    continue
+                text = f"[{var} for {var} in {xs.text} if {var} not in {memory}]"
+                self._protected.add(text)
+                yield Term(text, memory_kind, 2)
 
     def _split(self, total: int, kinds: tuple[str, ...], depth: int) -> Iterator[tuple[Term, ...]]:
         """Tuples of terms of ``kinds`` whose costs sum to ``total``."""
