@@ -15,11 +15,12 @@ from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
 from vlb_gym.abstractor.beliefs import numbers, readings
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
-from vlb_gym.abstractor.certify import certification_episodes, procedure_confidence
+from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
 from vlb_gym.abstractor.programs import CHOSEN, Act, Program
-from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Search
-from vlb_gym.core.library import load_behavior
+from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Found, Search
+from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
+from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.spec import Promise, spec_from_data
 from vlb_gym.verify import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
@@ -121,6 +122,33 @@ def test_an_episode_a_found_behavior_fails_joins_the_probes():
         assert search.keeps(found.program)
         assert not search.keeps(Program((Act("sense", "current_cell()"),)))
         assert search.rescreen(search.document(found, "goal_or_stay", "")) is None
+    finally:
+        search.close()
+
+
+def test_episodes_a_failed_certification_failed_on_are_screened_next():
+    search = Search(GRID_ID, Promise(expr="goal_found()"), "find a goal", screen_seed=2)
+    try:
+        program = Program((Act("sense", "current_cell()"),
+                           Act("navigate", "frontier_cells()[0]"), Act("sense", "current_cell()")))
+        document = search.document(Found(program, 0), "two_steps", "")
+        certification = certify(GRID_ID, document, 77)
+        assert not certification.passed
+        failed = certification.failed_seeds
+        assert failed and set(failed) <= {episode_seed(77, i) for i in range(112)}
+        env = RobustnessWrapper(gym.make(GRID_ID))
+        try:  # each is an episode the behavior fails, run again by the runtime
+            compiled = compile_spec(spec_from_data(document, "<p>"), env, "<p>", None,
+                                    BehaviorLibrary(shipped=False), names_only=True)
+            assert not any(run_episode(env, BehaviorPolicy(compiled, env.unwrapped), seed,
+                                       0).success for seed in failed)
+        finally:
+            env.close()
+        screened, probes = len(search.seeds), len(search.probes)
+        search.learn(failed)
+        assert search.seeds[screened:] == failed
+        assert search.probes[probes:] == failed[:MAX_PROBES - probes]
+        assert not search.keeps(program)
     finally:
         search.close()
 

@@ -155,6 +155,9 @@ class _Certifier:
         certification = certify(self.env_id, document, seed, self.env_kwargs,
                                 workers=self.workers)
         record.update(successes=certification.successes, episodes=certification.episodes)
+        if not certification.passed:  # what it failed on, the search now screens
+            record["learned"] = certification.failed_seeds
+            search.learn(certification.failed_seeds)
         return document, certification
 
     def close(self) -> None:

@@ -69,6 +69,12 @@ class Certification:
     def episodes(self) -> int:
         return self.report["episodes"]
 
+    @property
+    def failed_seeds(self) -> list[int]:
+        """Reset seeds of a few failed episodes (up to three per cause)."""
+        return [seed for group in self.report.get("failures_by_cause", [])
+                for seed in group["seeds"]]
+
 
 def certify(env_id: str, document: dict[str, Any], seed: int,
             env_kwargs: dict[str, Any] | None = None, epsilon: float = EPSILON,

@@ -204,6 +204,17 @@ class Search:
         bank = Bank(vocabulary, found).build(binders)
         return Statements(bank, space, limits, list(self.executor.behaviors))
 
+    def learn(self, seeds: list[int]) -> None:
+        """Screen every later program on the episodes of ``seeds`` too, as probes while there
+        are fewer than :data:`MAX_PROBES`: episodes a found behavior failed in a certification
+        campaign (the next campaign runs on fresh seeds, so what it certifies is not tested on
+        what chose it)."""
+        for seed in seeds:
+            if seed not in self.seeds:
+                self.seeds.append(seed)
+            if seed not in self.probes and len(self.probes) < MAX_PROBES:
+                self.probes.append(seed)
+
     # -- least behaviors -----------------------------------------------------------------------
     def witnesses(self) -> list[str]:
         """The words of the env's least behaviors that keep the promise on every screening
