@@ -28,7 +28,8 @@ from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import Act, If, Statement, Use, _list_of, _substitute, chosen_first
+from .programs import (Act, If, Statement, Use, _list_of, _substitute, chosen_first,
+                       memory_updates)
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
 
@@ -276,12 +277,10 @@ class Executor:
         if isinstance(act, Use):
             self._use(run, act.behavior)
             return
-        updates = [(m.name, update) for m in self.space.memory
-                   for primitive, update in m.updates if primitive == act.primitive]
-        first = chosen_first(act.param, [name for name, _ in updates])
+        first = chosen_first(self.space, act)
         if first:  # from the memory as it was
             param = self._value(act.param, namespace)
-        for name, update in updates:
+        for name, update in memory_updates(self.space, act.primitive):
             value = self._value(_substitute(update, "PARAM", act.param), namespace)
             run.variables[name] = namespace[name] = value
         if not first:

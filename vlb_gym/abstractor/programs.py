@@ -97,13 +97,22 @@ class Program:
         return _Writer(self, space).document(name, description, env_id)
 
 
-def chosen_first(param: str, updated: list[str]) -> bool:
-    """Whether a parameter is evaluated before its act's memory updates rather than after: one
+def memory_updates(space: SearchSpace, primitive: str) -> list[tuple[str, str]]:
+    """(memory name, update expression) for each memory running ``primitive`` updates."""
+    return [(m.name, update) for m in space.memory for name, update in m.updates
+            if name == primitive]
+
+
+def chosen_first(space: SearchSpace, act: Act) -> bool:
+    """Whether ``act``'s parameter is evaluated before its memory updates rather than after: one
     that keeps only what an updated memory does not hold (``c not in path``: "a goal not yet
-    stood on"), which after the update would never be the cell it is about to add. Any other
-    reads the memory as updated (``path[-2]`` is then the cell before the one moved to, as a
-    promise's ``moves()[-2]`` reads it after the move)."""
-    return any(f" not in {name}" in param for name in updated)
+    stood on"), which after the update would never be the cell it is about to add, where the
+    space says where the agent is (to start :data:`CHOSEN` from). Any other reads the memory as
+    updated (``path[-2]`` is then the cell before the one moved to, as a promise's
+    ``moves()[-2]`` reads it after the move)."""
+    return space.here is not None and any(
+        re.search(rf" not in {re.escape(name)}(?![\w'])", act.param)
+        for name, _ in memory_updates(space, act.primitive))
 
 
 def _ids(k: int, body: tuple[Act, ...]) -> list[str]:
@@ -154,12 +163,11 @@ class _Writer:
         first = self.statements[0]
         if not isinstance(first, (Act, Use)):
             raise ValueError("a program begins with an act or a library behavior")
-        updated = [m for m in space.memory if isinstance(first, Act) and any(
-            primitive == first.primitive for primitive, _ in m.updates)]
-        if isinstance(first, Act) and chosen_first(first.param, [m.name for m in updated]):
+        if isinstance(first, Act) and chosen_first(space, first):
+            initial = {m.name: m.initial for m in space.memory}
             param = first.param  # chosen from the memory's initial values
-            for memory in updated:
-                param = _substitute(param, memory.name, memory.initial)
+            for name, _ in memory_updates(space, first.primitive):
+                param = _substitute(param, name, initial[name])
             self.statements = (Act(first.primitive, param), *self.statements[1:])
 
     def _node(self, k: int, j: int = 0) -> str:
@@ -214,18 +222,11 @@ class _Writer:
         evaluates a node's parameter after its edge's assignments)."""
         if isinstance(act, Use):
             return []
-        updates = [(m.name, update) for m in self.space.memory
-                   for primitive, update in m.updates if primitive == act.primitive]
-        if self._chooses(act, updates):
+        updates = memory_updates(self.space, act.primitive)
+        if chosen_first(self.space, act):
             return [(CHOSEN, act.param)] + [(name, _substitute(update, "PARAM", CHOSEN))
                                             for name, update in updates]
         return [(name, _substitute(update, "PARAM", act.param)) for name, update in updates]
-
-    def _chooses(self, act: Act, updates: list[tuple[str, str]]) -> bool:
-        """Whether ``act``'s parameter is chosen before the memory it updates (see
-        :func:`chosen_first`; and the space says where the agent is, to start
-        :data:`CHOSEN` from)."""
-        return bool(self.space.here) and chosen_first(act.param, [n for n, _ in updates])
 
     def document(self, name: str, description: str, env_id: str) -> dict[str, Any]:
         acts = dict(self._acts())
@@ -265,7 +266,7 @@ class _Writer:
         for k, statement in enumerate(self.statements):
             if isinstance(statement, Loop) and statement.limit is not None:
                 variables[f"n{k}"] = "0"
-        if any(CHOSEN in dict(self._updates(act)) for _, act in self._acts()):
+        if any(isinstance(act, Act) and chosen_first(self.space, act) for _, act in self._acts()):
             variables[CHOSEN] = self.space.here[1]  # type: ignore[index]
         return {"name": name, "description": description, "env": env_id,
                 "variables": variables,

@@ -283,7 +283,10 @@ class Search:
         statements = self.statements()
         completions = statements.completions()
         order = itertools.count()
-        heap: list[tuple[float, int, _Node, int, int]] = [(1, next(order), _Node((), 0, []), 1, 0)]
+        def root() -> list[tuple[float, int, _Node, int, int]]:
+            return [(1, next(order), _Node((), 0, []), 1, 0)]
+
+        heap = root()
         seen: set[Any] = set()
         best: tuple[int, int, Found] | None = None
         until: int | None = None  # programs built when the search stops looking further
@@ -292,7 +295,7 @@ class Search:
                 if self._counterexample is not None:  # a new probe: begin again
                     self.probes.append(self._counterexample)
                     self._counterexample = None
-                    heap, seen = [(1, next(order), _Node((), 0, []), 1, 0)], set()
+                    heap, seen = root(), set()
                 if time.perf_counter() - started > time_limit or (
                         max_programs is not None and self.tally.built >= max_programs) or (
                         until is not None and self.tally.built >= until):
