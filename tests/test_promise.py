@@ -228,13 +228,18 @@ def test_grid_judge_agrees_with_an_independent_reading(seed, moves):
     env.close()
 
 
-def test_scoop_judge_sums_what_the_scoops_measured():
+def test_scoop_judge_reads_what_the_last_scoop_weighed():
+    """Each scoop weighs the receiver's (and the table's) contents after it, everything so far:
+    the behavior's delivery is the last weighing, not their sum (which counted the first scoop's
+    grains once per later scoop)."""
     judge = ScoopJudge()
     steps = [{"primitive": "scoop", "mass_delivered": 2.5, "mass_spilled": 0.25},
-             {"primitive": "scoop", "mass_delivered": 1.0, "mass_spilled": 0.0}]
+             {"primitive": "scoop", "mass_delivered": 3.5, "mass_spilled": 0.25}]
     judge.bind(Episode(None, steps, {}))
     assert (judge.scoops(), judge.delivered(), judge.spilled()) == (2, 3.5, 0.25)
     assert judge.summary() == "2 scoop(s), 3.5 g delivered, 0.2 g spilled"
+    judge.bind(Episode(None, [], {}))
+    assert (judge.scoops(), judge.delivered(), judge.spilled()) == (0, 0.0, 0.0)
 
 
 @pytest.mark.parametrize("promise, words", [

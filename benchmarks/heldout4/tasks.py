@@ -21,9 +21,9 @@ every cell next to one is known; *up* is j + 1, *down* j - 1, *right* i + 1, *le
 sense labels its cell and the four around it; the obstacles *next to* a cell are those among its
 four neighbours inside the grid (the grid's edge does not count). The start cell always has a
 free neighbour (a goal is reachable from it and it holds none). The scooping check weighs the
-grains in the receiver at the end; ``delivered()`` adds up what each scoop's step measured, the
-receiver's contents after it, so it is never below that weight and the promise is kept whenever
-the check passes (three scoops of the reference left 88 to 140 g there in ten episodes).
+grains in the receiver at the end, as ``delivered()`` does since the judge was fixed (it used to
+add up each scoop's weighing of the receiver's contents, counting early grains again; the
+tasks were not changed: three scoops of the reference left 88 to 140 g there in ten episodes).
 """
 
 from __future__ import annotations

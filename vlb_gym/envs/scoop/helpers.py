@@ -60,8 +60,11 @@ class ScoopJudge(Judge):
     def bind(self, episode: Episode) -> None:
         self._steps = [dict(s) for s in episode.steps]
 
-    def _total(self, key: str) -> float:
-        return float(sum(float(s.get(key, 0.0)) for s in self._steps))
+    def _now(self, key: str) -> float:
+        """``key`` as the last scoop measured it: the scoop primitive weighs what lies in the
+        receiver (or on the table) after it, everything so far, not what it alone added."""
+        measured = [s[key] for s in self._steps if s["primitive"] == "scoop" and key in s]
+        return float(measured[-1]) if measured else 0.0
 
     @helper
     def scoops(self) -> int:
@@ -70,13 +73,15 @@ class ScoopJudge(Judge):
 
     @helper
     def delivered(self) -> float:
-        """Grams the behavior's scoops delivered into the receiver, in all."""
-        return self._total("mass_delivered")
+        """Grams the behavior's scoops delivered into the receiver, in all (the receiver's
+        contents after the last scoop)."""
+        return self._now("mass_delivered")
 
     @helper
     def spilled(self) -> float:
-        """Grams the behavior's scoops spilled outside both containers, in all."""
-        return self._total("mass_spilled")
+        """Grams the behavior's scoops spilled outside both containers, in all (what lies
+        outside them after the last scoop)."""
+        return self._now("mass_spilled")
 
     def summary(self) -> str:
         return (f"{self.scoops()} scoop(s), {self.delivered():.1f} g delivered, "
