@@ -17,7 +17,7 @@ from vlb_gym.abstractor.beliefs import numbers, readings
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
-from vlb_gym.abstractor.programs import CHOSEN, Act, Program
+from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program
 from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Found, Search
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
@@ -177,6 +177,56 @@ def test_memory_of_visits_is_searched_and_written_as_the_runtime_runs_it():
         assert search.rescreen(document) is None  # the runtime chooses as the executor did
     finally:
         search.close()
+
+
+# heldout3's right_then_home (development data since its one run): a loop guarded by its own
+# act ("while the cell to the right is free") and "go to the start unless there"
+RIGHT_THEN_HOME = Promise(expr=(
+    "(primitives() == ['sense'] and sensed() == [start_cell()] and (start_cell()[0] == 9 or "
+    "is_obstacle((start_cell()[0] + 1, start_cell()[1])))) if not moves() else (len(moves()) "
+    "> 1 and primitives() == ['sense', 'navigate'] * len(moves()) and moves() == "
+    "[(start_cell()[0] + n, start_cell()[1]) for n in [1, 2, 3, 4, 5, 6, 7, 8, 9]]"
+    "[:len(moves()) - 1] + [start_cell()] and sensed() == [(start_cell()[0] + n, "
+    "start_cell()[1]) for n in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]][:len(moves())] and "
+    "(start_cell()[0] + len(moves()) - 1 == 9 or is_obstacle((start_cell()[0] + len(moves()), "
+    "start_cell()[1]))))"))
+RIGHT = "beside(current_cell(), 'right')"
+
+
+def test_a_loop_guarded_by_its_own_act_is_plain_and_moving_until_blocked_is_found():
+    search = Search(GRID_ID, RIGHT_THEN_HOME, "sense, step right while the next cell is free, "
+                    "sensing after each step, then go back to the start if you moved",
+                    screen_seed=777)
+    try:
+        statements = search.statements()
+        (cost,) = [t.cost for t in statements.bank.of("cell") if t.text == RIGHT]
+        body = (Act("navigate", RIGHT), Act("sense", "current_cell()"))
+        loop = Loop(f"is_free({RIGHT})", body)
+        # the act costs 1 more than its term, the body 1 more (sense), the loop 1 more: as a
+        # loop over a list; the plainest statements of a cost come before its acts
+        level = statements.at(cost + 3)
+        assert loop in level and level.index(loop) < level.index(
+            next(s for s in level if isinstance(s, Act)))
+        unless = If("home != current_cell()", (Act("navigate", "home"),))
+        assert unless in statements.completions()  # the promise's readings name home
+        found = search.find(120)
+        assert found is not None
+        assert loop in found.program.statements and unless in found.program.statements
+        assert search.rescreen(search.document(found, "right_then_home", "")) is None
+    finally:
+        search.close()
+
+
+def test_names_a_promise_binds_to_one_value_are_read_through(interface):
+    space = interface.search_space()
+    outcome = set(interface.make_judge().functions())
+    decision = set(interface.make_helpers().functions())
+    read = dict(readings("all(sensed() == [s] and moves() == ([l] if not is_obstacle(l) else "
+                         "[]) for s in [start_cell()] for l in [(s[0] - 1, s[1])])",
+                         space, outcome, decision))
+    assert read["label((home[0] - 1, home[1])) == 'obstacle'"] is False
+    assert read["(home[0] - 1, home[1])"] is False
+    assert not any(" in [" in text for text in read)  # no binding of one value is left
 
 
 @pytest.mark.parametrize("expr, witnessed", [("primitives() == ['sense']", True),

@@ -24,7 +24,8 @@ TARGETS = ["current_cell()", "home", "frontier_cells()[0]", "explored()[-1]", "g
            "[c for c in explored() if c not in path][-1]"]  # (these two read what they update)
 GUARDS = ["goal_found()", "not goal_found()", "len(explored()) < 12", "True",
           "is_free(beside(current_cell(), 'up'))", "len(path) < 4",
-          "len([c for c in explored() if label(c) == 'goal']) == 0"]
+          "len([c for c in explored() if label(c) == 'goal']) == 0", "home != current_cell()",
+          "is_free(beside(current_cell(), 'right'))"]
 
 acts = st.one_of(st.just(SENSE), st.sampled_from(TARGETS).map(lambda t: Act("navigate", t)))
 bodies = st.lists(acts, min_size=1, max_size=3).map(tuple)

@@ -14,6 +14,7 @@ with the constants the promise and the request name (numbers, cells, lists of ce
 from __future__ import annotations
 
 import ast
+import copy
 import re
 from collections.abc import Mapping
 from typing import Any
@@ -98,6 +99,76 @@ class _Reader(ast.NodeTransformer):
         return type(node)(**fields)
 
 
+class _Inliner(ast.NodeTransformer):
+    """Names a comprehension binds to one value (``for s in [start_cell()]``, a promise's way
+    of saying "let") replaced by that value: ``all(P for s in [X])`` is ``P`` with ``X`` for
+    ``s``, so its parts can be read as decision expressions."""
+
+    def visit_Call(self, node: ast.Call) -> ast.AST:
+        self.generic_visit(node)
+        if isinstance(node.func, ast.Name) and node.func.id in ("all", "any") \
+                and len(node.args) == 1 and isinstance(node.args[0], ast.List) \
+                and len(node.args[0].elts) == 1:
+            return node.args[0].elts[0]
+        return node
+
+    def _comprehension(self, node: ast.AST) -> ast.AST:
+        self.generic_visit(node)
+        kept = []
+        targets = {n.id for g in node.generators for n in ast.walk(g.target)
+                   if isinstance(n, ast.Name)}
+        for index, generator in enumerate(node.generators):
+            value = _single(generator)
+            if value is None or targets & {n.id for n in ast.walk(value)
+                                           if isinstance(n, ast.Name)}:
+                kept.append(generator)
+                continue
+            for later in node.generators[index + 1:]:
+                _substitute(later, generator.target.id, value)
+            _substitute_in(node, generator.target.id, value)
+        node.generators = kept
+        if kept:
+            return node
+        if isinstance(node, ast.SetComp):  # one value: a collection of it
+            return ast.Set([node.elt])
+        return ast.List([node.elt], ast.Load())
+
+    visit_ListComp = visit_GeneratorExp = visit_SetComp = _comprehension
+
+
+def _single(generator: ast.comprehension) -> ast.expr | None:
+    """The one value ``generator`` binds its name to, or None."""
+    if isinstance(generator.target, ast.Name) and not generator.ifs \
+            and not generator.is_async and isinstance(generator.iter, (ast.List, ast.Tuple)) \
+            and len(generator.iter.elts) == 1:
+        return generator.iter.elts[0]
+    return None
+
+
+def _substitute(node: ast.AST, name: str, value: ast.expr) -> None:
+    """Every load of ``name`` under ``node`` replaced by a copy of ``value``."""
+    for parent in ast.walk(node):
+        for field, child in ast.iter_fields(parent):
+            if isinstance(child, ast.Name) and child.id == name and isinstance(child.ctx, ast.Load):
+                setattr(parent, field, copy.deepcopy(value))
+            elif isinstance(child, list):
+                for k, item in enumerate(child):
+                    if isinstance(item, ast.Name) and item.id == name \
+                            and isinstance(item.ctx, ast.Load):
+                        child[k] = copy.deepcopy(value)
+
+
+def _substitute_in(node: ast.AST, name: str, value: ast.expr) -> None:
+    """``name`` replaced in a comprehension's element (wrapped so the root can be replaced)."""
+    holder = ast.Expression(body=node.elt)
+    _substitute(holder, name, value)
+    node.elt = holder.body
+
+
+def _inlined(tree: ast.Expression) -> ast.Expression:
+    return ast.fix_missing_locations(_Inliner().visit(tree))
+
+
 def _renamed(tree: ast.AST, avoid: set[str]) -> ast.AST:
     """Comprehension variables renamed p0, p1, ... (away from the search's bound names)."""
     names = {t.id for gen in ast.walk(tree) if isinstance(gen, ast.comprehension)
@@ -117,7 +188,7 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
     if not space.beliefs or space.here is None:
         return []
     try:
-        tree = _renamed(ast.parse(promise, mode="eval").body, {variable})
+        tree = _renamed(_inlined(ast.parse(promise, mode="eval")).body, {variable})
     except SyntaxError:
         return []
     read = _Reader(space.beliefs, outcome).read(tree)

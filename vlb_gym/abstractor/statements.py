@@ -4,7 +4,11 @@ An act costs 1 plus its parameter's term (a fixed parameter costs nothing more);
 3 plus its guard and its acts; a loop 2 plus its guard and its acts, plus 1 for a limit (a
 loop without a guard must pick its first act from a list, which ends it, or have a limit). A
 guard costs its term, plus :data:`GUARD` unless it is a reading of the promise: conditions
-the promise suggests come first.
+the promise suggests come first. A loop guarded by its first act itself -- "while it can be
+done" (the parameter's ``feasible`` expression: the cell to move onto is free) -- costs 1 plus
+its acts, as a loop over a list does, and a conditional "if it can be done" or "if it does
+something" (its parameter is not an idle one: go to the start unless there) 2 plus its acts:
+moving in a direction until blocked is as plain a request as there is.
 Bodies hold one to :data:`MAX_BODY` acts. A library behavior, run whole, is a statement of
 cost :data:`USE`. :meth:`Statements.at` lists those of one cost,
 computed once and capped at :data:`MAX_PER_COST`.
@@ -12,6 +16,7 @@ computed once and capped at :data:`MAX_PER_COST`.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 from typing import Any
 
@@ -39,6 +44,7 @@ class Statements:
         self._bodies: dict[tuple[int, int], list[tuple[Act, ...]]] = {}
         self._statements: dict[int, list[Statement]] = {}
         self._fixed = {Act(p.primitive, text) for p in space.parameters for text in p.fixed}
+        self._parameter = {p.primitive: p for p in space.parameters}
 
     def acts(self, cost: int) -> list[Act]:
         """Acts of exactly ``cost``."""
@@ -93,9 +99,11 @@ class Statements:
         return [*self.acts(cost), *(Use(b) for b in self.behaviors if cost == USE)]
 
     def _generate(self, cost: int) -> Iterator[Statement]:
-        """Acts, library behaviors, then loops and conditionals with bodies of each length in
-        turn (one of each length at a time: where :data:`MAX_PER_COST` cuts, no length of
-        body is cut whole)."""
+        """Loops and conditionals guarded by their first act (the plainest of a cost), acts,
+        library behaviors, then the other loops and conditionals with bodies of each length in
+        turn (one of each length at a time: where :data:`MAX_PER_COST` cuts, no
+        length of body is cut whole)."""
+        yield from self._idioms(cost)
         yield from self.acts(cost)
         if cost == USE:
             yield from (Use(b) for b in self.behaviors)
@@ -108,8 +116,19 @@ class Statements:
                 else:
                     yield statement
 
+    def _idioms(self, cost: int) -> Iterator[Statement]:
+        """Loops and conditionals of ``cost`` guarded by their first act itself: while it can
+        be done, with bodies of each length; then if it can be done, if it does something."""
+        for length in range(1, MAX_BODY + 1):
+            bodies = self.bodies(cost - 1, length) if cost - 1 >= length else []
+            yield from (Loop(g, b) for b in bodies if (g := self.feasible(b[0])))
+        for length in range(1, 3):
+            bodies = self.bodies(cost - 2, length) if cost - 2 >= length else []
+            yield from (If(g, b) for b in bodies for g in self.own_guards(b[0]))
+
     def _compound(self, cost: int, length: int) -> Iterator[Statement]:
-        """Loops and conditionals of ``cost`` whose bodies hold ``length`` acts."""
+        """Loops and conditionals of ``cost`` whose bodies hold ``length`` acts (but those of
+        :meth:`_idioms`)."""
         for body_cost in range(length, cost):
             bodies = self.bodies(body_cost, length)
             if not bodies:
@@ -125,17 +144,43 @@ class Statements:
                 for guard in self.guards(rest - 3):
                     yield from (If(guard, b) for b in bodies)
 
-    def completions(self) -> list[Act]:
-        """Acts to try at once after every prefix: those whose parameter is read from the
-        promise (a place the promise would hold at, the first of the places it would)."""
-        out = []
+    def completions(self) -> list[Statement]:
+        """Statements to try at once after every prefix: acts whose parameter is read from the
+        promise (a place the promise would hold at, the first of the places it would, a memory
+        variable the promise's readings name: where the behavior began), each also as "if it
+        does something" (go to the start unless there)."""
+        out: list[Statement] = []
+        read = " ".join(text for _, text, _ in self.bank.vocabulary.fragments)
+        named = {m.name for m in self.space.memory if re.search(rf"\b{m.name}\b", read)}
         for parameter in self.space.parameters:
             if parameter.kind is None:
                 continue
             for term in self._parameters(parameter):
-                if term.reading or (term.text.endswith("[0]") and _reads(self.bank, term)):
-                    out.append(Act(parameter.primitive, term.text))
+                if term.reading or term.text in named or (
+                        term.text.endswith("[0]") and _reads(self.bank, term)):
+                    act = Act(parameter.primitive, term.text)
+                    out += [act, *(If(g, (act,)) for g in [self.acting(act)] if g)]
         return out
+
+    def feasible(self, act: Act) -> str | None:
+        """The guard "``act`` can be done" (its parameter's ``feasible`` expression), if its
+        primitive declares one and ``act``'s parameter is not fixed."""
+        parameter = self._parameter.get(act.primitive)
+        if parameter is None or parameter.feasible is None or act in self._fixed:
+            return None
+        return parameter.feasible.format(act.param)
+
+    def acting(self, act: Act) -> str | None:
+        """The guard "``act`` does something": its parameter is none of the idle ones (go to
+        the start unless there), if its primitive has idle ones."""
+        parameter = self._parameter.get(act.primitive)
+        if parameter is None or not parameter.idle or act in self._fixed:
+            return None
+        return " and ".join(f"{act.param} != {text}" for text in parameter.idle)
+
+    def own_guards(self, act: Act) -> list[str]:
+        """Guards read from ``act`` itself: it can be done; it does something."""
+        return [g for g in (self.feasible(act), self.acting(act)) if g]
 
     def guards(self, cost: int) -> list[str]:
         """Guards of exactly ``cost`` (see the module's docstring)."""

@@ -309,7 +309,7 @@ class Bank:
             for _, text, depth in self.vocabulary.fragments:
                 if depth != 1 or xs.text == text:
                     continue
-                found = f"[{var} for {var} in {xs.text} if {_wrap(text)}]"
+                found = f"[{var} for {var} in {_source(xs.text)} if {_wrap(text)}]"
                 self._protected |= {found, f"len({found}) == 0", f"len({found}) > 0"}
                 yield Term(found, f"list[{kind}]", 2)
                 yield Term(f"len({found}) == 0", "bool", 2)
@@ -329,7 +329,7 @@ class Bank:
             for xs in self.of(memory_kind, 0, 1):
                 if memory in xs.text:
                     continue
-                text = f"[{var} for {var} in {xs.text} if {var} not in {memory}]"
+                text = f"[{var} for {var} in {_source(xs.text)} if {var} not in {memory}]"
                 self._protected.add(text)
                 yield Term(text, memory_kind, 2)
 
@@ -376,7 +376,7 @@ class Bank:
                     for pred in self.of("bool", depth + 1, cost - 1 - c):
                         if pred.bound != depth + 1 or max(xs.bound, pred.bound - 1) != depth:
                             continue
-                        body = f"{var} for {var} in {xs.text} if {_wrap(pred.text)}"
+                        body = f"{var} for {var} in {_source(xs.text)} if {_wrap(pred.text)}"
                         yield Term(f"[{body}]", kind, cost, depth)
                     if cost - 1 - c < 1:
                         continue
@@ -384,13 +384,13 @@ class Bank:
                         if pred.bound == depth + 1 and xs.bound == depth:
                             for quantifier in ("any", "all"):
                                 yield Term(f"{quantifier}({_wrap(pred.text)} for {var} in "
-                                           f"{xs.text})",
+                                           f"{_source(xs.text)})",
                                            "bool", cost, depth)
                     for score in self.of("int", depth + 1, cost - 2 - c):
                         if score.bound == depth + 1 and xs.bound == depth and depth == 0:
                             for pick in ("argmin", "argmax"):
-                                yield Term(f"{xs.text}[{pick}([{score.text} for {var} in "
-                                           f"{xs.text}])]", item, cost, depth)
+                                yield Term(f"{_wrap(xs.text)}[{pick}([{score.text} for {var} "
+                                           f"in {_source(xs.text)}])]", item, cost, depth)
 
     def _logic(self, cost: int, depth: int) -> Iterator[Term]:
         kinds = [k for (k, _) in self.terms if k != "bool"]
@@ -489,6 +489,18 @@ def _kind_of_value(value: Any, named: Mapping[str, Any]) -> str | None:
         if conforms(value, name, named):
             return name
     return None
+
+
+@lru_cache(maxsize=1 << 16)
+@lru_cache(maxsize=1 << 16)
+def _source(text: str) -> str:
+    """``text`` parenthesized where it cannot be a comprehension's source as it is (a
+    conditional expression, a lambda)."""
+    try:
+        node = ast.parse(text, mode="eval").body
+    except SyntaxError:
+        return f"({text})"
+    return f"({text})" if isinstance(node, (ast.IfExp, ast.Lambda)) else text
 
 
 @lru_cache(maxsize=1 << 16)

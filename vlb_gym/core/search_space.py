@@ -40,12 +40,16 @@ from typing import Any
 class Parameter:
     """How searched behaviors parametrise ``primitive``: by expressions of type ``kind``, or,
     where ``kind`` is None, by the ``fixed`` expressions only; never by an ``idle`` one (a
-    parameter with which the primitive does nothing, such as moving to where the agent is)."""
+    parameter with which the primitive does nothing, such as moving to where the agent is).
+    ``feasible``, where given, is a decision expression (``{0}`` the parameter) that holds
+    when the primitive can succeed with that parameter (``is_free({0})``: a cell it can move
+    onto): the guard of "do it while (or if) it can be done"."""
 
     primitive: str
     kind: str | None = None
     fixed: tuple[str, ...] = ()
     idle: tuple[str, ...] = ()
+    feasible: str | None = None
 
 
 @dataclass(frozen=True)

@@ -134,7 +134,8 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
         return SearchSpace(
             types={"cell": Cell},
             parameters=(Parameter("sense", fixed=("current_cell()",)),
-                        Parameter("navigate", "cell", idle=("current_cell()",))),
+                        Parameter("navigate", "cell", idle=("current_cell()",),
+                                  feasible="is_free({0})")),
             memory=(Memory("home", "cell", "current_cell()",
                            description="the cell the behavior began in"),
                     Memory("path", "list[cell]", "[current_cell()]",
