@@ -190,6 +190,9 @@ class Search:
         cheap = {text for _, text in vocabulary.constants if text.strip("'") in words}
         cheap |= {call_name(n) for n in vocabulary.helpers  # named in the request's words
                   if any(len(w) >= 4 and w in words for w in call_name(n).split("_"))}
+        cheap |= {call_name(n) for n, (kinds, _) in vocabulary.helpers.items()  # or one of the
+                  if any(k.startswith("str:") and words & set(k[4:].split("|"))  # values it
+                         for k in kinds)}  # takes ("right": the cell beside, in a direction)
         outcome = set(interface.make_judge().functions())
         binders = tuple(k for k in space.types)[:1] * 2
         decision = {call_name(n) for n in vocabulary.helpers}

@@ -116,15 +116,19 @@ class Statements:
                 else:
                     yield statement
 
-    def _idioms(self, cost: int) -> Iterator[Statement]:
+    def _idioms(self, cost: int) -> list[Statement]:
         """Loops and conditionals of ``cost`` guarded by their first act itself: while it can
-        be done, with bodies of each length; then if it can be done, if it does something."""
+        be done, with bodies of each length; then if it can be done, if it does something;
+        those whose bodies choose fewer parameters first (a move and a sense before two
+        moves)."""
+        out: list[Statement] = []
         for length in range(1, MAX_BODY + 1):
             bodies = self.bodies(cost - 1, length) if cost - 1 >= length else []
-            yield from (Loop(g, b) for b in bodies if (g := self.feasible(b[0])))
+            out += [Loop(g, b) for b in bodies if (g := self.feasible(b[0]))]
         for length in range(1, 3):
             bodies = self.bodies(cost - 2, length) if cost - 2 >= length else []
-            yield from (If(g, b) for b in bodies for g in self.own_guards(b[0]))
+            out += [If(g, b) for b in bodies for g in self.own_guards(b[0])]
+        return sorted(out, key=lambda s: sum(a not in self._fixed for a in s.body))
 
     def _compound(self, cost: int, length: int) -> Iterator[Statement]:
         """Loops and conditionals of ``cost`` whose bodies hold ``length`` acts (but those of
