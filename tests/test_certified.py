@@ -10,6 +10,8 @@ from pathlib import Path
 
 import gymnasium as gym
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
@@ -19,6 +21,7 @@ from vlb_gym.abstractor.certify import certification_episodes, certify, procedur
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
 from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program
 from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Found, Search
+from vlb_gym.abstractor.terms import contexts
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.spec import Promise, spec_from_data
@@ -217,6 +220,20 @@ def test_a_loop_guarded_by_its_own_act_is_plain_and_moving_until_blocked_is_foun
         search.close()
 
 
+def test_a_direction_the_request_names_is_one_name_from_here():
+    """The cell beside the agent in a direction the request names costs one name, as the
+    request says it; a direction it does not name costs what the helper's call costs."""
+    search = Search(GRID_ID, Promise(expr="primitives()[:1] == ['sense']"),
+                    "sense, walk up as far as you can, then left", screen_seed=3)
+    try:
+        costs = {t.text: t.cost for t in search.statements().bank.of("cell")}
+        assert costs["beside(current_cell(), 'up')"] == costs[
+            "beside(current_cell(), 'left')"] == 1
+        assert costs.get("beside(current_cell(), 'down')", 3) >= 3
+    finally:
+        search.close()
+
+
 def test_names_a_promise_binds_to_one_value_are_read_through(interface):
     space = interface.search_space()
     outcome = set(interface.make_judge().functions())
@@ -227,6 +244,75 @@ def test_names_a_promise_binds_to_one_value_are_read_through(interface):
     assert read["label((home[0] - 1, home[1])) == 'obstacle'"] is False
     assert read["(home[0] - 1, home[1])"] is False
     assert not any(" in [" in text for text in read)  # no binding of one value is left
+
+
+FREE = "if not is_obstacle(n)"
+
+
+@pytest.mark.parametrize("expr, pick", [
+    (f"all(abs(final_cell()[0] - 2) <= abs(n[0] - 2) for n in neighbours(start_cell()) {FREE})",
+     "adjacent(home)[argmin([abs(p0[0] - 2) if not label(p0) == 'obstacle' else 1000000000 "
+     "for p0 in adjacent(home)])]"),
+    ("all(is_obstacle(n) or len(neighbours(n)) >= len(neighbours(moves()[0])) "
+     "for n in neighbours(start_cell()))",  # the score on the right: still the least
+     "adjacent(home)[argmin([len(adjacent(p0)) if not label(p0) == 'obstacle' else 1000000000 "
+     "for p0 in adjacent(home)])]"),
+    ("final_cell()[1] == max(n[1] for n in known_cells())",
+     "explored()[argmax([p0[1] for p0 in explored()])]"),
+    ("all(n[0] <= final_cell()[1] for n in neighbours(start_cell()))", None),  # not one score
+    ("all(abs(final_cell()[0] - 2) <= abs(n[0] - 2) for n in known_before_last())", None),
+])
+def test_a_place_the_promise_says_is_least_by_a_score_is_read_as_its_pick(interface, expr, pick):
+    space = interface.search_space()
+    outcome = set(interface.make_judge().functions())
+    decision = set(interface.make_helpers().functions())
+    picks = [text for text, bound in readings(expr, space, outcome, decision) if "argm" in text]
+    assert picks == ([pick] if pick else [])
+
+
+@settings(max_examples=40, deadline=None)
+@given(a=st.integers(0, 9), b=st.integers(-3, 3), most=st.booleans(), flipped=st.booleans(),
+       seed=st.integers(0, 10**6))
+def test_a_read_pick_is_an_element_whose_score_is_least_or_greatest(interface, a, b, most,
+                                                                    flipped, seed):
+    """Whatever the score and the way round the promise compares it, the pick, evaluated on
+    decision contexts of real rollouts, is a free neighbour of the start whose score no other
+    free neighbour beats (computed here directly)."""
+    score = "abs({0}[0] - %d) + %d * {0}[1]" % (a, b)
+    x, n = score.format("final_cell()"), score.format("n")
+    compare = f"{n} {'<=' if most else '>='} {x}" if flipped else \
+        f"{x} {'>=' if most else '<='} {n}"
+    space = interface.search_space()
+    (pick,) = [text for text, _ in readings(
+        f"all({compare} for n in neighbours(start_cell()) {FREE})", space,
+        set(interface.make_judge().functions()), set(interface.make_helpers().functions()))
+        if "argm" in text]
+    for context in contexts(interface, space, [seed], steps=4, keep=(0, 2, 4)):
+        ns = context.namespace
+        free = [c for c in ns["adjacent"](ns["home"]) if ns["label"](c) != "obstacle"]
+        if not free:
+            continue
+        value = eval(score.format("cell"), {"cell": eval(pick, ns)})  # noqa: S307
+        scores = [eval(score.format("cell"), {"cell": c}) for c in free]  # noqa: S307
+        assert value == (max(scores) if most else min(scores))
+
+
+def test_the_search_goes_where_the_promise_says_the_score_is_least():
+    """Going to the free neighbour of the start nearest column 2 is one name to the search: the
+    pick read from the promise, kept (through the package's own runtime) on every screening
+    episode."""
+    promise = Promise(expr="primitives() == ['sense', 'navigate'] and moves()[0] in "
+                           "neighbours(start_cell()) and not is_obstacle(moves()[0]) and "
+                           f"all(abs(moves()[0][0] - 2) <= abs(n[0] - 2) for n in "
+                           f"neighbours(start_cell()) {FREE})")
+    search = Search(GRID_ID, promise, "sense, then step to the free neighbour nearest column 2",
+                    screen_seed=11)
+    try:
+        found = search.find(60)
+        assert found is not None and "argmin" in found.program.words()
+        assert search.rescreen(search.document(found, "column_two", "")) is None
+    finally:
+        search.close()
 
 
 @pytest.mark.parametrize("expr, witnessed", [("primitives() == ['sense']", True),

@@ -8,7 +8,10 @@ gives no belief for is left out: of ``A and B`` the reading is ``A``'s), twice: 
 where the behavior ends read as *here* ("would the promise hold if I stopped now?": a stopping
 condition) and as a bound variable ``c`` ("would it hold if I ended in c?": a filter for where to
 go). Every sub-expression of the readings is offered to the search at the cost of one name,
-with the constants the promise and the request name (numbers, cells, lists of cells).
+with the constants the promise and the request name (numbers, cells, lists of cells). A place
+the promise says is the least or greatest of a list's elements by some score (the nearest, the
+one with the fewest obstacles next to it: :func:`extremes`) is read as the expression that picks
+it, so that going there costs one name too.
 """
 
 from __future__ import annotations
@@ -180,6 +183,125 @@ def _renamed(tree: ast.AST, avoid: set[str]) -> ast.AST:
     return tree
 
 
+def _instance(general: ast.AST, particular: ast.AST, name: str, found: list[ast.AST]) -> bool:
+    """Whether ``particular`` is ``general`` with one expression (collected in ``found``, every
+    occurrence the same) written where ``general`` says ``name``."""
+    if isinstance(general, ast.Name) and general.id == name:
+        found.append(particular)
+        return ast.dump(particular) == ast.dump(found[0])
+    if type(general) is not type(particular):
+        return False
+    for field, value in ast.iter_fields(general):
+        other = getattr(particular, field, None)
+        if isinstance(value, ast.AST):
+            if not isinstance(other, ast.AST) or not _instance(value, other, name, found):
+                return False
+        elif isinstance(value, list):
+            if not isinstance(other, list) or len(other) != len(value) or not all(
+                    _instance(v, o, name, found) if isinstance(v, ast.AST) else v == o
+                    for v, o in zip(value, other)):
+                return False
+        elif value != other:
+            return False
+    return True
+
+
+def _score(general: ast.expr, particular: ast.expr, name: str) -> bool:
+    """Whether ``particular`` is the score ``general`` (which uses ``name``) of one element."""
+    found: list[ast.AST] = []
+    return _instance(general, particular, name, found) and bool(found) and name not in {
+        n.id for n in ast.walk(particular) if isinstance(n, ast.Name)}
+
+
+_LEAST = {ast.Lt: "argmin", ast.LtE: "argmin", ast.Gt: "argmax", ast.GtE: "argmax"}
+_OPPOSITE = {"argmin": "argmax", "argmax": "argmin"}
+_FILTERED = {"argmin": "1000000000", "argmax": "-1000000000"}  # what an element left out scores
+
+
+def _extreme(elt: ast.expr, name: str) -> tuple[str, ast.expr, list[ast.expr]] | None:
+    """Of a quantified ``all(elt for name in ...)``: which end (argmin, argmax) of which score
+    of ``name`` the promise's element is at, and the conditions under which ``elt`` asks it
+    (``is_obstacle(n) or K(x) <= K(n)``: where ``n`` is not an obstacle); None if it says no
+    such thing."""
+    conditions: list[ast.expr] = []
+    if isinstance(elt, ast.BoolOp) and isinstance(elt.op, ast.Or):
+        compares = [v for v in elt.values if _extreme(v, name)]
+        if len(compares) != 1:
+            return None
+        conditions = [ast.UnaryOp(ast.Not(), v) for v in elt.values if v is not compares[0]]
+        end, score, more = _extreme(compares[0], name)
+        return end, score, conditions + more
+    if isinstance(elt, ast.BoolOp):  # and: the comparison among other demands
+        found = [e for e in (_extreme(v, name) for v in elt.values) if e]
+        return found[0] if len(found) == 1 else None
+    if not (isinstance(elt, ast.Compare) and len(elt.ops) == 1
+            and type(elt.ops[0]) in _LEAST):
+        return None
+    left, right, end = elt.left, elt.comparators[0], _LEAST[type(elt.ops[0])]
+    if _score(right, left, name):
+        return end, right, []
+    if _score(left, right, name):
+        return _OPPOSITE[end], left, []
+    return None
+
+
+def _generator(node: ast.AST) -> ast.comprehension | None:
+    """The one generator of a generator expression over a plain name, or None."""
+    if isinstance(node, ast.GeneratorExp) and len(node.generators) == 1 \
+            and isinstance(node.generators[0].target, ast.Name):
+        return node.generators[0]
+    return None
+
+
+def _quantified(node: ast.AST) -> tuple[ast.comprehension, Any] | None:
+    """A generator and what :func:`_extreme` reads of it, where ``node`` is
+    ``all(... for n in L if P)`` or compares a score with ``min``/``max`` of the scores of
+    ``L``'s elements (``K(x) == min(K(n) for n in L if P)``); None where it is neither."""
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) \
+            and node.func.id == "all" and len(node.args) == 1 and _generator(node.args[0]):
+        generator = _generator(node.args[0])
+        return generator, _extreme(node.args[0].elt, generator.target.id)
+    if not (isinstance(node, ast.Compare) and len(node.ops) == 1
+            and isinstance(node.ops[0], (ast.Eq, ast.LtE, ast.GtE))):
+        return None
+    for one, other in ((node.left, node.comparators[0]), (node.comparators[0], node.left)):
+        if isinstance(one, ast.Call) and isinstance(one.func, ast.Name) \
+                and one.func.id in ("min", "max") and len(one.args) == 1 \
+                and (generator := _generator(one.args[0])) is not None \
+                and _score(one.args[0].elt, other, generator.target.id):
+            end = "argmin" if one.func.id == "min" else "argmax"
+            return generator, (end, one.args[0].elt, [])
+    return None
+
+
+def extremes(tree: ast.expr) -> list[ast.expr]:
+    """The places a promise says are the least or greatest by some score of a list's
+    elements (``all(K(x) <= K(n) for n in L if P)`` or ``K(x) == min(K(n) for n in L if P)``:
+    x makes K least among L's elements that keep P), each as the expression picking it:
+    ``L[argmin([(K(n) if P else BIG) for n in L])]``, an element that does not keep P scoring
+    past every other."""
+    out = []
+    for node in ast.walk(tree):
+        quantified = _quantified(node)
+        if quantified is None:
+            continue
+        generator, found = quantified
+        if found is None:
+            continue
+        name = generator.target.id
+        end, score, conditions = found
+        conditions = list(generator.ifs) + conditions
+        if conditions:
+            test = conditions[0] if len(conditions) == 1 else ast.BoolOp(ast.And(), conditions)
+            score = ast.IfExp(test, score, ast.parse(_FILTERED[end], mode="eval").body)
+        scores = ast.ListComp(score, [ast.comprehension(ast.Name(name, ast.Store()),
+                                                        generator.iter, [], 0)])
+        pick = ast.Call(ast.Name(end, ast.Load()), [scores], [])
+        out.append(ast.fix_missing_locations(
+            ast.Subscript(copy.deepcopy(generator.iter), pick, ast.Load())))
+    return out
+
+
 def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[str],
              variable: str = "c") -> list[tuple[str, bool]]:
     """Decision expressions read from ``promise`` (see the module's docstring): each as
@@ -191,12 +313,17 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
         tree = _renamed(_inlined(ast.parse(promise, mode="eval")).body, {variable})
     except SyntaxError:
         return []
-    read = _Reader(space.beliefs, outcome).read(tree)
-    if read is None:
-        return []
-    text = ast.unparse(read)
+    reader = _Reader(space.beliefs, outcome)
     known = decision | set(BUILTINS) | {m.name for m in space.memory}
     out: dict[str, bool] = {}
+    for extreme in extremes(tree):
+        picked = reader.read(extreme)
+        if picked is not None and _free_names(picked) <= known:
+            out.setdefault(ast.unparse(picked), False)
+    read = reader.read(tree)
+    if read is None:
+        return list(out.items())
+    text = ast.unparse(read)
     for target, bound in ((space.here[1], False), (variable, True)):
         whole = ast.parse(text.replace(TARGET, target), mode="eval").body
         for node in ast.walk(whole):

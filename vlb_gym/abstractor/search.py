@@ -68,6 +68,22 @@ def fresh_seed() -> int:
     return secrets.randbits(63)
 
 
+def named_from_here(vocabulary: Vocabulary, space: SearchSpace, words: set[str]
+                    ) -> list[tuple[str, str, int]]:
+    """Fragments (kind, text, depth 0) for what the request names as seen from here: a helper
+    of where the agent is and one value the request or promise names (``beside(current_cell(),
+    'right')`` where "right" is named), one name to the search, as the request says it."""
+    if space.here is None:
+        return []
+    here_kind, here = space.here
+    out = []
+    for name, (kinds, result) in vocabulary.helpers.items():
+        if len(kinds) == 2 and kinds[0] == here_kind and kinds[1].startswith("str:"):
+            out += [(result, f"{call_name(name)}({here}, {value!r})", 0)
+                    for value in kinds[1][4:].split("|") if value in words]
+    return out
+
+
 @dataclass
 class Found:
     """A program that kept the promise on every screening episode (not yet certified)."""
@@ -193,6 +209,7 @@ class Search:
         cheap |= {call_name(n) for n, (kinds, _) in vocabulary.helpers.items()  # or one of the
                   if any(k.startswith("str:") and words & set(k[4:].split("|"))  # values it
                          for k in kinds)}  # takes ("right": the cell beside, in a direction)
+        vocabulary.fragments += named_from_here(vocabulary, space, words)
         outcome = set(interface.make_judge().functions())
         binders = tuple(k for k in space.types)[:1] * 2
         decision = {call_name(n) for n in vocabulary.helpers}

@@ -174,6 +174,7 @@ class Bank:
         self.terms: dict[tuple[str, int], list[Term]] = {}
         self._by_cost: dict[tuple[str, int, int], list[Term]] = {}
         self._seen: dict[tuple[str, int], set[Any]] = {}
+        self._texts: dict[tuple[str, int], set[str]] = {}
         self._samples: dict[str, list[list[Any]]] = {}  # kind -> per context, values to bind
         self._code: dict[str, Any] = {}
 
@@ -216,13 +217,15 @@ class Bank:
         something new on the contexts (``protected``: whatever it means) and there is room."""
         key = (term.kind, term.bound)
         kept = self.terms.setdefault(key, [])
-        if len(kept) >= self.max_kept or not self._checks(term.text):
-            return False
+        texts = self._texts.setdefault(key, set())
+        if len(kept) >= self.max_kept or term.text in texts or not self._checks(term.text):
+            return False  # (a protected text, kept at its least cost, is kept once)
         values = self._values(term.text, term.bound, term.kind)
         seen = self._seen.setdefault(key, set())
         if not protected and (values is None or values in seen):
             return False
         seen.add(values)
+        texts.add(term.text)
         term = replace(term, reading=True) if protected else term
         kept.append(term)
         self._by_cost.setdefault((term.kind, term.bound, term.cost), []).append(term)

@@ -147,7 +147,8 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                                (("sense", "current_cell()"),)),
                        Witness("go to the cell where it stands (its start) and stop",
                                (("navigate", "current_cell()"),))),
-beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
+            beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
+                     "sensed": "path",  # where it stood: where it sensed, as behaviors do
                      "is_goal": "label({0}) == 'goal'", "is_obstacle": "label({0}) == 'obstacle'",
                      "goal_found": "goal_found()", "neighbours": "adjacent({0})",
                      "known_cells": "explored()",
