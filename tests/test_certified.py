@@ -3,6 +3,7 @@ the campaign engine on fresh seeds, certificates in behavior files, the model-fi
 
 from __future__ import annotations
 
+import ast
 import json
 import subprocess
 import sys
@@ -249,18 +250,31 @@ def test_names_a_promise_binds_to_one_value_are_read_through(interface):
 FREE = "if not is_obstacle(n)"
 
 
+FREE_NEIGHBOURS = "[p0 for p0 in adjacent(home) if not label(p0) == 'obstacle']"
+OF_FREE = "for p0 in adjacent(home) if not label(p0) == 'obstacle'"
+X2 = "abs(final_cell()[0] - 2)"
+
+
 @pytest.mark.parametrize("expr, pick", [
-    (f"all(abs(final_cell()[0] - 2) <= abs(n[0] - 2) for n in neighbours(start_cell()) {FREE})",
-     "adjacent(home)[argmin([abs(p0[0] - 2) if not label(p0) == 'obstacle' else 1000000000 "
-     "for p0 in adjacent(home)])]"),
+    (f"all({X2} <= abs(n[0] - 2) for n in neighbours(start_cell()) {FREE})",
+     f"{FREE_NEIGHBOURS}[argmin([abs(p0[0] - 2) {OF_FREE}])]"),
     ("all(is_obstacle(n) or len(neighbours(n)) >= len(neighbours(moves()[0])) "
      "for n in neighbours(start_cell()))",  # the score on the right: still the least
-     "adjacent(home)[argmin([len(adjacent(p0)) if not label(p0) == 'obstacle' else 1000000000 "
-     "for p0 in adjacent(home)])]"),
+     f"{FREE_NEIGHBOURS}[argmin([len(adjacent(p0)) {OF_FREE}])]"),
+    (f"all({X2} < abs(n[0] - 2) for n in neighbours(start_cell()) if n != final_cell())",
+     "adjacent(home)[argmin([abs(p0[0] - 2) for p0 in adjacent(home)])]"),  # strict: others
     ("final_cell()[1] == max(n[1] for n in known_cells())",
      "explored()[argmax([p0[1] for p0 in explored()])]"),
+    ("min(n[1] for n in known_cells()) >= final_cell()[1]",
+     "explored()[argmin([p0[1] for p0 in explored()])]"),
+    ("final_cell()[1] >= min(n[1] for n in known_cells())", None),  # true of every element
+    ("max(n[1] for n in known_cells()) >= final_cell()[1]", None),
+    ("not final_cell()[1] == max(n[1] for n in known_cells())", None),  # asks it not to be
+    (f"not all({X2} <= abs(n[0] - 2) for n in neighbours(start_cell()))", None),
     ("all(n[0] <= final_cell()[1] for n in neighbours(start_cell()))", None),  # not one score
-    ("all(abs(final_cell()[0] - 2) <= abs(n[0] - 2) for n in known_before_last())", None),
+    (f"all({X2} <= abs(n[0] - 2) for n in known_before_last())", None),  # no belief of it
+    (f"all({X2} <= abs(n[0] - 2) or abs(final_cell()[1] - 2) <= abs(n[1] - 2) "
+     "for n in known_cells())", None),  # two scores
 ])
 def test_a_place_the_promise_says_is_least_by_a_score_is_read_as_its_pick(interface, expr, pick):
     space = interface.search_space()
@@ -268,6 +282,69 @@ def test_a_place_the_promise_says_is_least_by_a_score_is_read_as_its_pick(interf
     decision = set(interface.make_helpers().functions())
     picks = [text for text, bound in readings(expr, space, outcome, decision) if "argm" in text]
     assert picks == ([pick] if pick else [])
+
+
+STEP_RIGHT_IF_LEFT_BLOCKED = Promise(expr=(
+    "sensed() == [start_cell()] and ((primitives() == ['sense', 'navigate'] and moves() == "
+    "[(start_cell()[0] + 1, start_cell()[1])]) if start_cell()[0] > 0 and start_cell()[0] < 9 "
+    "and is_obstacle((start_cell()[0] - 1, start_cell()[1])) and not is_obstacle("
+    "(start_cell()[0] + 1, start_cell()[1])) else primitives() == ['sense'])"))
+
+
+def test_the_parts_a_belief_reads_are_read_where_the_whole_is_not(interface):
+    """No belief reads ``primitives()``, so the conditional cannot be read whole; its test and
+    its first branch still are (a guard and a place), and the search finds the conditional."""
+    space = interface.search_space()
+    read = dict(readings(STEP_RIGHT_IF_LEFT_BLOCKED.expr, space,
+                         set(interface.make_judge().functions()),
+                         set(interface.make_helpers().functions())))
+    test = ("home[0] > 0 and home[0] < 9 and label((home[0] - 1, home[1])) == 'obstacle' and "
+            "(not label((home[0] + 1, home[1])) == 'obstacle')")
+    (guard,) = [text for text in read if ast.dump(ast.parse(text)) == ast.dump(ast.parse(test))]
+    assert read[guard] is False and read["(home[0] + 1, home[1])"] is False
+    assert not any("primitives" in text for text in read)
+    search = Search(GRID_ID, STEP_RIGHT_IF_LEFT_BLOCKED, "sense; step right if the cell on your "
+                    "left is an obstacle and the one on your right is free", screen_seed=5)
+    try:
+        found = search.find(600, max_programs=20_000)
+        assert found is not None and f"if {guard}: navigate(" in found.program.words()
+        assert search.rescreen(search.document(found, "right_if_left_blocked", "")) is None
+    finally:
+        search.close()
+
+
+def test_every_reading_of_every_task_promise_is_an_expression(interface):
+    """Read in parts (a slice's bounds are not an expression: ``primitives()[-3:]``), every
+    grid promise of every task set reads into expressions the search can compile."""
+    sys.path.insert(0, str(ROOT))
+    from benchmarks.synthesis_eval import load_tasks
+    from benchmarks.synthesis_tasks import TASKS
+
+    space = interface.search_space()
+    outcome = set(interface.make_judge().functions())
+    decision = set(interface.make_helpers().functions())
+    tasks = [*TASKS, *(t for folder in ("heldout", "heldout2", "heldout3", "heldout4",
+                                        "heldout5", "dev_general")
+                       for t in load_tasks(ROOT / "benchmarks" / folder / "tasks.py"))]
+    grid = [t for t in tasks if t.env_id == GRID_ID]
+    assert len(grid) >= 70
+    for task in grid:
+        for text, _ in readings(task.promise, space, outcome, decision):
+            compile(text, task.name, "eval")
+
+
+def test_nested_alternatives_are_read_once_each(interface):
+    """A promise of 60 nested ``or``s (within the checker's limits) is read at once: each part
+    once, not once per way of reaching it (2**60)."""
+    inner = "final_cell()[0] <= n[0]"
+    for _ in range(60):
+        inner = f"is_goal(n) or ({inner})"
+    space = interface.search_space()
+    picks = [text for text, _ in readings(
+        f"all({inner} for n in neighbours(start_cell()))", space,
+        set(interface.make_judge().functions()), set(interface.make_helpers().functions()))
+        if "argm" in text]
+    assert len(picks) == 1 and picks[0].startswith("[p0 for p0 in adjacent(home) if ")
 
 
 @settings(max_examples=40, deadline=None)
@@ -308,7 +385,7 @@ def test_the_search_goes_where_the_promise_says_the_score_is_least():
     search = Search(GRID_ID, promise, "sense, then step to the free neighbour nearest column 2",
                     screen_seed=11)
     try:
-        found = search.find(60)
+        found = search.find(600, max_programs=5000)  # (a bound that does not hang on load)
         assert found is not None and "argmin" in found.program.words()
         assert search.rescreen(search.document(found, "column_two", "")) is None
     finally:

@@ -4,10 +4,11 @@ A promise speaks of what happened (the true map, the steps run); a behavior deci
 observes. The env's :attr:`~vlb_gym.core.search_space.SearchSpace.beliefs` say what the agent
 believes of each outcome helper (``is_goal(x)`` -> ``label(x) == 'goal'``); :func:`readings`
 rewrites a promise through them, part by part (a part that names an outcome helper the env
-gives no belief for is left out: of ``A and B`` the reading is ``A``'s), twice: with the place
-where the behavior ends read as *here* ("would the promise hold if I stopped now?": a stopping
-condition) and as a bound variable ``c`` ("would it hold if I ended in c?": a filter for where to
-go). Every sub-expression of the readings is offered to the search at the cost of one name,
+gives no belief for is left out: of ``A and B`` the reading is ``A``'s; where a whole cannot
+be read, as ``X if C else primitives() == [...]``, its largest parts that can are, ``C`` and
+``X``), twice: with the place where the behavior ends read as *here* ("would the promise hold
+if I stopped now?": a stopping condition) and as a bound variable ``c`` ("would it hold if I
+ended in c?": a filter for where to go). Every sub-expression of the readings is offered to the search at the cost of one name,
 with the constants the promise and the request name (numbers, cells, lists of cells). A place
 the promise says is the least or greatest of a list's elements by some score (the nearest, the
 one with the fewest obstacles next to it: :func:`extremes`) is read as the expression that picks
@@ -19,7 +20,7 @@ from __future__ import annotations
 import ast
 import copy
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 from vlb_gym.core.expressions import BUILTINS
@@ -206,42 +207,43 @@ def _instance(general: ast.AST, particular: ast.AST, name: str, found: list[ast.
     return True
 
 
-def _score(general: ast.expr, particular: ast.expr, name: str) -> bool:
-    """Whether ``particular`` is the score ``general`` (which uses ``name``) of one element."""
+def _score(general: ast.expr, particular: ast.expr, name: str) -> ast.expr | None:
+    """Where ``particular`` is the score ``general`` (which uses ``name``) of one element: that
+    element (the expression written for ``name``), or None."""
     found: list[ast.AST] = []
-    return _instance(general, particular, name, found) and bool(found) and name not in {
-        n.id for n in ast.walk(particular) if isinstance(n, ast.Name)}
+    if _instance(general, particular, name, found) and found and name not in {
+            n.id for n in ast.walk(particular) if isinstance(n, ast.Name)}:
+        return found[0]
+    return None
 
 
 _LEAST = {ast.Lt: "argmin", ast.LtE: "argmin", ast.Gt: "argmax", ast.GtE: "argmax"}
 _OPPOSITE = {"argmin": "argmax", "argmax": "argmin"}
-_FILTERED = {"argmin": "1000000000", "argmax": "-1000000000"}  # what an element left out scores
+Extreme = tuple[str, ast.expr, ast.expr, list[ast.expr]]  # end, score, place, conditions
 
 
-def _extreme(elt: ast.expr, name: str) -> tuple[str, ast.expr, list[ast.expr]] | None:
+def _extreme(elt: ast.expr, name: str) -> Extreme | None:
     """Of a quantified ``all(elt for name in ...)``: which end (argmin, argmax) of which score
-    of ``name`` the promise's element is at, and the conditions under which ``elt`` asks it
-    (``is_obstacle(n) or K(x) <= K(n)``: where ``n`` is not an obstacle); None if it says no
-    such thing."""
-    conditions: list[ast.expr] = []
-    if isinstance(elt, ast.BoolOp) and isinstance(elt.op, ast.Or):
-        compares = [v for v in elt.values if _extreme(v, name)]
-        if len(compares) != 1:
+    of ``name`` the promise's place (``final_cell()``) is at, and the conditions under which
+    ``elt`` asks it (``is_obstacle(n) or K(x) <= K(n)``: where ``n`` is not an obstacle);
+    None if it says no such thing."""
+    if isinstance(elt, ast.BoolOp):
+        hits = [(v, e) for v in elt.values if (e := _extreme(v, name)) is not None]
+        if len(hits) != 1:
             return None
-        conditions = [ast.UnaryOp(ast.Not(), v) for v in elt.values if v is not compares[0]]
-        end, score, more = _extreme(compares[0], name)
-        return end, score, conditions + more
-    if isinstance(elt, ast.BoolOp):  # and: the comparison among other demands
-        found = [e for e in (_extreme(v, name) for v in elt.values) if e]
-        return found[0] if len(found) == 1 else None
+        value, (end, score, place, conditions) = hits[0]
+        if isinstance(elt.op, ast.Or):  # the comparison where no other part holds
+            conditions = conditions + [ast.UnaryOp(ast.Not(), v) for v in elt.values
+                                       if v is not value]
+        return end, score, place, conditions  # (and: the comparison among other demands)
     if not (isinstance(elt, ast.Compare) and len(elt.ops) == 1
             and type(elt.ops[0]) in _LEAST):
         return None
     left, right, end = elt.left, elt.comparators[0], _LEAST[type(elt.ops[0])]
-    if _score(right, left, name):
-        return end, right, []
-    if _score(left, right, name):
-        return _OPPOSITE[end], left, []
+    if (place := _score(right, left, name)) is not None:
+        return end, right, place, []
+    if (place := _score(left, right, name)) is not None:
+        return _OPPOSITE[end], left, place, []
     return None
 
 
@@ -253,52 +255,76 @@ def _generator(node: ast.AST) -> ast.comprehension | None:
     return None
 
 
-def _quantified(node: ast.AST) -> tuple[ast.comprehension, Any] | None:
+# a place compared with min or max of the scores is at that end when it is no more than the
+# least (no less than the greatest): (min or max, whether min/max is on the left) -> operators
+_BOUNDING = {("min", False): (ast.Eq, ast.LtE), ("min", True): (ast.Eq, ast.GtE),
+             ("max", False): (ast.Eq, ast.GtE), ("max", True): (ast.Eq, ast.LtE)}
+
+
+def _quantified(node: ast.AST) -> tuple[ast.comprehension, Extreme | None] | None:
     """A generator and what :func:`_extreme` reads of it, where ``node`` is
-    ``all(... for n in L if P)`` or compares a score with ``min``/``max`` of the scores of
-    ``L``'s elements (``K(x) == min(K(n) for n in L if P)``); None where it is neither."""
+    ``all(... for n in L if P)`` or bounds a score by ``min``/``max`` of the scores of ``L``'s
+    elements (``K(x) == min(K(n) for n in L if P)``, ``K(x) <= min(...)``); None where it is
+    neither."""
     if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) \
-            and node.func.id == "all" and len(node.args) == 1 and _generator(node.args[0]):
-        generator = _generator(node.args[0])
+            and node.func.id == "all" and len(node.args) == 1 and not node.keywords \
+            and (generator := _generator(node.args[0])) is not None:
         return generator, _extreme(node.args[0].elt, generator.target.id)
-    if not (isinstance(node, ast.Compare) and len(node.ops) == 1
-            and isinstance(node.ops[0], (ast.Eq, ast.LtE, ast.GtE))):
+    if not (isinstance(node, ast.Compare) and len(node.ops) == 1):
         return None
-    for one, other in ((node.left, node.comparators[0]), (node.comparators[0], node.left)):
+    for one, other, first in ((node.left, node.comparators[0], True),
+                              (node.comparators[0], node.left, False)):
         if isinstance(one, ast.Call) and isinstance(one.func, ast.Name) \
                 and one.func.id in ("min", "max") and len(one.args) == 1 \
+                and isinstance(node.ops[0], _BOUNDING[one.func.id, first]) \
                 and (generator := _generator(one.args[0])) is not None \
-                and _score(one.args[0].elt, other, generator.target.id):
+                and (place := _score(one.args[0].elt, other, generator.target.id)) is not None:
             end = "argmin" if one.func.id == "min" else "argmax"
-            return generator, (end, one.args[0].elt, [])
+            return generator, (end, one.args[0].elt, place, [])
     return None
+
+
+def _positive(node: ast.expr) -> Iterator[ast.expr]:
+    """``node`` and the parts of it the promise asks to hold where it holds (of ``and``/``or``,
+    of both branches of ``x if c else y``; not under ``not``, in a test or an argument)."""
+    yield node
+    if isinstance(node, ast.BoolOp):
+        for value in node.values:
+            yield from _positive(value)
+    elif isinstance(node, ast.IfExp):
+        yield from _positive(node.body)
+        yield from _positive(node.orelse)
+
+
+def _mentions(node: ast.AST, part: ast.AST) -> bool:
+    return any(ast.dump(n) == ast.dump(part) for n in ast.walk(node))
 
 
 def extremes(tree: ast.expr) -> list[ast.expr]:
     """The places a promise says are the least or greatest by some score of a list's
-    elements (``all(K(x) <= K(n) for n in L if P)`` or ``K(x) == min(K(n) for n in L if P)``:
-    x makes K least among L's elements that keep P), each as the expression picking it:
-    ``L[argmin([(K(n) if P else BIG) for n in L])]``, an element that does not keep P scoring
-    past every other."""
+    elements (``all(K(x) <= K(n) for n in L if P)``, either way round, or ``K(x) ==
+    min(K(n) for n in L if P)``: x makes K least among L's elements that keep P), each as the
+    expression picking it: ``[n for n in L if P][argmin([K(n) for n in L if P])]``. A condition
+    that names x itself (``if n != x``: the others, for a strict comparison) is left out."""
     out = []
-    for node in ast.walk(tree):
+    for node in _positive(tree):
         quantified = _quantified(node)
-        if quantified is None:
+        if quantified is None or quantified[1] is None:
             continue
-        generator, found = quantified
-        if found is None:
-            continue
+        generator, (end, score, place, conditions) = quantified
         name = generator.target.id
-        end, score, conditions = found
-        conditions = list(generator.ifs) + conditions
+        conditions = [c for c in [*generator.ifs, *conditions] if not _mentions(c, place)]
         if conditions:
             test = conditions[0] if len(conditions) == 1 else ast.BoolOp(ast.And(), conditions)
-            score = ast.IfExp(test, score, ast.parse(_FILTERED[end], mode="eval").body)
-        scores = ast.ListComp(score, [ast.comprehension(ast.Name(name, ast.Store()),
-                                                        generator.iter, [], 0)])
+            among = ast.ListComp(ast.Name(name, ast.Load()), [ast.comprehension(
+                ast.Name(name, ast.Store()), copy.deepcopy(generator.iter), [test], 0)])
+        else:
+            among = copy.deepcopy(generator.iter)
+        scores = ast.ListComp(copy.deepcopy(score), [ast.comprehension(
+            ast.Name(name, ast.Store()), copy.deepcopy(generator.iter),
+            [copy.deepcopy(c) for c in conditions], 0)])
         pick = ast.Call(ast.Name(end, ast.Load()), [scores], [])
-        out.append(ast.fix_missing_locations(
-            ast.Subscript(copy.deepcopy(generator.iter), pick, ast.Load())))
+        out.append(ast.fix_missing_locations(ast.Subscript(among, pick, ast.Load())))
     return out
 
 
@@ -320,13 +346,10 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
         picked = reader.read(extreme)
         if picked is not None and _free_names(picked) <= known:
             out.setdefault(ast.unparse(picked), False)
-    read = reader.read(tree)
-    if read is None:
-        return list(out.items())
-    text = ast.unparse(read)
+    texts = [ast.unparse(part) for part in _readable(reader, tree)]
     for target, bound in ((space.here[1], False), (variable, True)):
-        whole = ast.parse(text.replace(TARGET, target), mode="eval").body
-        for node in ast.walk(whole):
+        for node in (node for text in texts for node in ast.walk(
+                ast.parse(text.replace(TARGET, target), mode="eval").body)):
             if not isinstance(node, ast.expr) or isinstance(
                     node, (ast.Name, ast.Constant, ast.Slice, ast.GeneratorExp)):
                 continue
@@ -337,6 +360,20 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
             if uses == bound:
                 out.setdefault(ast.unparse(node), uses)
     return list(out.items())[:MAX_READINGS]
+
+
+def _readable(reader: _Reader, node: ast.AST) -> list[ast.AST]:
+    """``node`` read through the beliefs or, where it cannot be read whole (``X if C else
+    primitives() == [...]``: no belief reads the steps), the largest parts of it that can
+    (``C``, ``X``), outermost first; so are the parts of those an ``and``/``or`` left out."""
+    read = reader.read(node)
+    if read is None:
+        return [part for child in ast.iter_child_nodes(node)
+                if isinstance(child, ast.expr) and not isinstance(child, ast.Slice)
+                for part in _readable(reader, child)]
+    dropped = [v for v in node.values if reader.read(v) is None] \
+        if isinstance(node, ast.BoolOp) else []  # (left out of the reading of and/or)
+    return [read, *(part for value in dropped for part in _readable(reader, value))]
 
 
 def _free_names(node: ast.AST) -> set[str]:
