@@ -88,7 +88,10 @@ def run(command: Command, cwd: Path) -> tuple[int, str]:
                               text=True, timeout=600, env=env)
         return done.returncode, done.stdout.replace(env["HOME"], "~")
     process = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE,
-                               stderr=subprocess.STDOUT, text=True, env=env)
+                               stderr=subprocess.STDOUT, text=True, env=env,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    # (Ctrl-C as a terminal delivers it: a suite run in the background has SIGINT ignored, and
+    # the ignoring is inherited)
     store = cwd / words[words.index("--store") + 1]
     deadline = time.monotonic() + 120
     while stored(store) < 50 and time.monotonic() < deadline:  # some, far from all

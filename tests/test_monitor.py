@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
 import threading
@@ -19,6 +20,12 @@ from vlb_gym.reports.monitor import Monitor, snapshot
 from vlb_gym.verify.store import open_readonly
 
 VLB = [sys.executable, "-m", "vlb_gym.cli"]
+
+
+def ctrl_c_as_in_a_terminal() -> None:
+    """SIGINT as a terminal's Ctrl-C delivers it, in a child about to be interrupted: a suite
+    run in the background has it ignored, and the ignoring is inherited."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def vlb(*args: str, cwd: Path) -> subprocess.CompletedProcess:
@@ -153,7 +160,8 @@ def test_the_command_says_where_it_serves_and_refuses_a_bad_port(tmp_path):
     assert "at most 65535" in done.stderr
     server = subprocess.Popen([*VLB, "monitor", str(tmp_path / "s.db"), "--port", "0"],
                               cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+                              text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"},
+                              preexec_fn=ctrl_c_as_in_a_terminal)
     try:
         line = server.stdout.readline()
         assert line.startswith("vlb monitor: http://127.0.0.1:") and "does not exist yet" in line
