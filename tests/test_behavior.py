@@ -7,12 +7,15 @@ import json
 import networkx as nx
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vlb_gym import BehaviorSpecError, load_behavior, shipped_behaviors
 from vlb_gym.core.runtime import BehaviorRuntimeError
 from vlb_gym.core.library import compile_for
 from vlb_gym.core.spec import SCHEMA_PATH, json_schema
-from vlb_gym.envs.grid_explore.types import GOAL, UNEXPLORED, cell_of
+from vlb_gym.envs.grid_explore.helpers import GridHelpers
+from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED, cell_of
 from vlb_gym.verify import run_episode
 
 from .conftest import explore_doc
@@ -269,6 +272,23 @@ def test_param_outside_the_space_is_a_runtime_error(grid_env, write_behavior):
     obs, *_ = grid_env.step(policy.predict(obs)[0])
     with pytest.raises(BehaviorRuntimeError, match=r"not in its parameter space"):
         policy.predict(obs)
+
+
+@settings(max_examples=60, deadline=None)
+@given(maps=st.lists(st.lists(st.integers(0, 3), min_size=100, max_size=100), min_size=2,
+                     max_size=6))
+def test_the_lists_helpers_read_follow_the_labels_bound_last(maps):
+    """Explored and frontier cells, computed directly, for each label map bound in turn (the
+    helpers remember maps they have seen; binding another one must never show an old list)."""
+    helpers = GridHelpers(10)
+    for labels in maps + maps[:1]:
+        helpers.bind({"labels": np.array(labels), "position": np.array([0.5, 0.5])})
+        known = [(k // 10, k % 10) for k in range(100) if labels[k] != UNEXPLORED]
+        open_ = [(i, j) for i, j in known if labels[i * 10 + j] != OBSTACLE and any(
+            labels[a * 10 + b] == UNEXPLORED
+            for a, b in ((i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1))
+            if 0 <= a < 10 and 0 <= b < 10)]
+        assert helpers.explored() == known and helpers.frontier_cells() == open_
 
 
 def test_helpers_read_only_the_observation(grid_env):

@@ -6,6 +6,8 @@ budget) ends its episode after a bounded amount of work, whatever it does."""
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vlb_gym.core import budget
 from vlb_gym.core.library import load_behavior
@@ -91,3 +93,29 @@ def test_a_dry_run_has_one_episode_budget_for_all_its_episodes(grid_env, write_b
     policy = load_behavior(str(write_behavior(doc)), grid_env)
     with pytest.raises(BehaviorSpecError, match="used more than 100000000 work units together"):
         validate.dry_run(policy.behavior, grid_env, seeds=(0, 1, 2, 3, 4, 5), steps=50)
+
+
+def _counted(value) -> int:
+    """Elements of nested lists and tuples and characters of strings, counted recursively."""
+    if isinstance(value, str):
+        return len(value)
+    if isinstance(value, (list, tuple)):
+        return len(value) + sum(_counted(v) - (not isinstance(v, (list, tuple, str)))
+                                for v in value)
+    return 1
+
+
+_LEAVES = st.one_of(st.integers(), st.text(max_size=4), st.none(), st.booleans())
+_NESTED = st.recursive(_LEAVES, lambda inner: st.one_of(
+    st.lists(inner, max_size=24), st.lists(inner, max_size=24).map(tuple),
+    st.lists(st.tuples(st.integers(), st.integers()), min_size=9, max_size=40)),
+    max_leaves=150)
+
+
+@settings(max_examples=400, deadline=None)
+@given(value=_NESTED, limit=st.integers(1, 400))
+def test_a_value_is_sized_by_its_elements_up_to_the_limit(value, limit):
+    """What a comparison is charged: the elements counted one by one (nested lists of cells
+    too); past the limit the count only says so."""
+    size, counted = budget._size(value, limit), _counted(value)
+    assert size == counted if counted <= limit else size > limit

@@ -654,3 +654,23 @@ def test_cli_certify_refuses_the_graph_first_options(tmp_path):
     proc = vlb("synthesize", GRID_ID, REQUEST, "--certify", "--yes", "--promise", HOME.expr,
                "--verify", "10", "--out", str(tmp_path / "x.json"))
     assert proc.returncode == 2 and "--certify: --verify" in proc.stderr
+
+
+def test_the_decision_contexts_do_not_depend_on_the_clock(interface, monkeypatch):
+    """The grammar's decision contexts come from a count of primitives the env declares, not
+    from a time: on a machine slow enough that every clock read takes 10 s they are the same."""
+    import time
+
+    space = interface.search_space()
+    where = [c.namespace["current_cell"]() for c in contexts(interface, space, list(range(6)))]
+    now = [0.0]
+
+    def slow() -> float:
+        now[0] += 10.0
+        return now[0]
+
+    monkeypatch.setattr(time, "perf_counter", slow)
+    again = [c.namespace["current_cell"]() for c in contexts(interface, space, list(range(6)))]
+    assert again == where and len(where) > 6  # rollouts past their resets, as when unloaded
+    scoop = gym.make("VLB-Scoop-v0").unwrapped.search_space()
+    assert scoop.context_steps == 1  # a scoop simulates seconds: one, after the first reset

@@ -535,19 +535,17 @@ def builtins_namespace() -> dict[str, Any]:
 
 
 def contexts(env: Any, space: SearchSpace, seeds: list[int], steps: int = 48,
-             keep: tuple[int, ...] = (0, 1, 3, 8, 20, 48), seconds: float = 3.0
-             ) -> list[Context]:
+             keep: tuple[int, ...] = (0, 1, 3, 8, 20, 48)) -> list[Context]:
     """Decision contexts from short random rollouts of ``env`` (a PrimitiveEnv, unwrapped) on
     ``seeds``: each step runs a random primitive with a random admissible parameter (the fixed
     one where the space fixes it); the observation after each step in ``keep`` is a context,
-    with the memory's values along the rollout. Rollouts stop once they have taken ``seconds``
-    (an env whose primitives simulate for seconds gives its reset observations)."""
-    import time
-
+    with the memory's values along the rollout. The rollouts run ``space.context_steps``
+    primitives in all (at most ``steps`` each); once those are spent, a rollout gives its reset
+    observation only."""
     import numpy as np
 
     out: list[Context] = []
-    started = time.perf_counter()
+    left = space.context_steps
     for seed in seeds:
         rng = np.random.default_rng(seed)
         observation, _ = env.reset(seed=seed)
@@ -556,12 +554,13 @@ def contexts(env: Any, space: SearchSpace, seeds: list[int], steps: int = 48,
             if step in keep:
                 out.append(Context({**builtins_namespace(), **_bound(env, observation),
                                     **memory}))
-            if step == steps or time.perf_counter() - started > seconds:
+            if step == steps or left <= 0:
                 break
             choice = _random_action(env, space, observation, rng)
             if choice is None:
                 break
             primitive, param = choice
+            left -= 1
             observation, _, _, _, info = env.step(env.encode_action(primitive, param))
             if not info["certificate"]:
                 break

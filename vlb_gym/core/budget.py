@@ -14,6 +14,7 @@ from __future__ import annotations
 import inspect
 import numbers
 from functools import lru_cache
+from itertools import chain
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
@@ -47,6 +48,7 @@ class EvaluationLimitError(UserError, ValueError):
 
 
 _SEQUENCES = (list, tuple, str)
+_NESTED = frozenset({list, tuple, str, np.ndarray})
 
 
 def _size(value: Any, limit: int = MAX_WORK) -> int:
@@ -64,6 +66,15 @@ def _size(value: Any, limit: int = MAX_WORK) -> int:
         total += len(items)
         if total > limit:
             return total
+        if len(items) > 8:  # a long list: its items' types at C speed (cells: tuples of ints)
+            kinds = set(map(type, items))
+            if kinds.isdisjoint(_NESTED):
+                continue
+            if len(kinds) == 1 and tuple in kinds:  # tuples alike: walk them as one list
+                if total + sum(map(len, items)) > limit:
+                    return limit + 1
+                stack.append(list(chain.from_iterable(items)))
+                continue
         for item in items:
             kind = type(item)
             if kind is list or kind is tuple:

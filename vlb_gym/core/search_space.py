@@ -27,7 +27,8 @@ and holds no table of its own about any env. An env that can be synthesized for 
 * ``screening``: episodes a candidate runs before it may be certified (fewer where an episode
   costs seconds of simulation); ``max_steps``: primitives a searched behavior may run in an
   episode (a candidate that runs longer is not pursued; certification uses the env's own
-  bound).
+  bound); ``context_steps``: random primitives the rollouts that make the grammar's decision
+  contexts run in all (a count, never a time, so that a search is the same on a loaded machine).
 """
 
 from __future__ import annotations
@@ -88,3 +89,4 @@ class SearchSpace:
     here: tuple[str, str] | None = None
     screening: int = 30
     max_steps: int | None = None
+    context_steps: int = 6 * 48

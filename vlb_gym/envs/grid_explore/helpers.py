@@ -6,6 +6,7 @@ only the observation: the agent's labels and position.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -40,6 +41,19 @@ def cell_index(cell: Any, size: int, fn: str) -> int:
     return i * size + j
 
 
+_MAX_VIEWS = 4096  # distinct label maps remembered (a search revisits the same ones often)
+
+
+@dataclass(slots=True)
+class _View:
+    """One label map and the lists read from it, computed when first asked for. Helpers return
+    these lists shared: expressions cannot change a value (no attributes, no assignment)."""
+
+    labels: list[int]
+    explored: list[Cell] | None = None
+    frontier: list[Cell] | None = None
+
+
 class GridHelpers(Helpers):
     """Helpers for ``VLB-GridExplore-v0`` observations.
 
@@ -55,9 +69,18 @@ class GridHelpers(Helpers):
         self._adjacent = [[self._cells[m] for m in ms] for ms in self._adjacent_flat]
         self._labels: list[int] = []
         self._here: Cell = (0, 0)
+        self._views: dict[bytes, _View] = {}
+        self._view = _View([])
 
     def bind(self, observation: dict[str, Any]) -> None:
-        self._labels = observation["labels"].tolist()
+        labels = observation["labels"]
+        key = labels.tobytes()
+        view = self._views.get(key)
+        if view is None:
+            if len(self._views) >= _MAX_VIEWS:
+                self._views.clear()
+            view = self._views[key] = _View(labels.tolist())
+        self._view, self._labels = view, view.labels
         self._here = cell_of(observation["position"], self.size)
 
     def _index(self, cell: Any, fn: str) -> int:
@@ -66,7 +89,11 @@ class GridHelpers(Helpers):
     @helper
     def explored(self) -> list[Cell]:
         """E1: all cells whose label is not 'unexplored', in flat-index order."""
-        return [cell for cell, lab in zip(self._cells, self._labels) if lab != UNEXPLORED]
+        view = self._view
+        if view.explored is None:
+            view.explored = [cell for cell, lab in zip(self._cells, view.labels)
+                             if lab != UNEXPLORED]
+        return view.explored
 
     @helper
     def adjacent(self, cell: Cell | None = None) -> list[Cell]:
@@ -100,10 +127,13 @@ class GridHelpers(Helpers):
     def frontier_cells(self) -> list[Cell]:
         """E4's candidates: the known cells that are not obstacles and have an unexplored
         neighbour (where sensing can still reveal something), in flat-index order."""
-        labels, adjacent = self._labels, self._adjacent_flat
-        return [self._cells[k] for k, lab in enumerate(labels)
-                if lab != UNEXPLORED and lab != OBSTACLE
-                and any(labels[m] == UNEXPLORED for m in adjacent[k])]
+        view = self._view
+        if view.frontier is None:
+            labels, adjacent = view.labels, self._adjacent_flat
+            view.frontier = [self._cells[k] for k, lab in enumerate(labels)
+                             if lab != UNEXPLORED and lab != OBSTACLE
+                             and any(labels[m] == UNEXPLORED for m in adjacent[k])]
+        return view.frontier
 
     @helper
     def manhattan(self, a: Cell, b: Cell) -> int:

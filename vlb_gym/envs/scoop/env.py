@@ -141,9 +141,11 @@ class ScoopEnv(PrimitiveEnv[ScoopState]):
 
     def search_space(self) -> SearchSpace:
         """Scoops from poses, the default sensing pose first; a scoop costs seconds of
-        simulation, so candidates are screened on a few episodes."""
+        simulation, so candidates are screened on a few episodes and the decision contexts
+        come from one scoop after the first reset (the other rollouts give their resets)."""
         return SearchSpace(types={"pose": Pose}, parameters=(Parameter("scoop", "pose"),),
-                           constants=(("pose", SENSING_POSE_EXPRESSION),), screening=3)
+                           constants=(("pose", SENSING_POSE_EXPRESSION),), screening=3,
+                           context_steps=1)
 
     def sample_state(self) -> ScoopState:
         env = sample_environment(self.np_random, self.grain_counts, self.placement_noise,
