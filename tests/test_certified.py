@@ -221,6 +221,35 @@ def test_a_loop_guarded_by_its_own_act_is_plain_and_moving_until_blocked_is_foun
         search.close()
 
 
+RIGHT_TO_SIGHTED_GOAL = Promise(expr=(
+    "all(primitives() == ['sense'] + ['navigate', 'sense'] * k + ['navigate'] * g and "
+    "moves()[:k] == [(start_cell()[0] + n, start_cell()[1]) for n in [1, 2, 3, 4, 5, 6, 7, 8, "
+    "9]][:k] and ((is_goal(final_cell()) and steps_after_goal() == 1) if g else "
+    "(final_cell()[0] == 9 or is_obstacle((final_cell()[0] + 1, final_cell()[1])))) "
+    "for g in [1 if goal_found() else 0] for k in [len(moves()) - g])"))
+
+
+def test_moving_until_the_promise_says_stop_is_one_step_dearer_than_until_blocked():
+    """"Step right while you can, until a goal is in sight, then onto it": the loop guarded by
+    its own act and ended by a condition the promise reads (a goal found) costs 1 more than
+    the loop "until blocked", and the search finds it and a step onto the goal after it."""
+    search = Search(GRID_ID, RIGHT_TO_SIGHTED_GOAL, "sense, then step right one cell at a time, "
+                    "sensing after each step, until you see a goal; then step onto it",
+                    screen_seed=3)
+    try:
+        statements = search.statements()
+        (cost,) = [t.cost for t in statements.bank.of("cell") if t.text == RIGHT]
+        body = (Act("navigate", RIGHT), Act("sense", "current_cell()"))
+        until = Loop(f"is_free({RIGHT}) and not goal_found()", body)
+        assert Loop(f"is_free({RIGHT})", body) in statements.at(cost + 3)
+        assert until in statements.at(cost + 4)
+        found = search.find(600, max_programs=20_000)  # (a bound that does not hang on load)
+        assert found is not None and until in found.program.statements
+        assert search.rescreen(search.document(found, "right_to_goal", "")) is None
+    finally:
+        search.close()
+
+
 def test_a_direction_the_request_names_is_one_name_from_here():
     """The cell beside the agent in a direction the request names costs one name, as the
     request says it; a direction it does not name costs what the helper's call costs."""

@@ -8,7 +8,9 @@ the promise suggests come first. A loop guarded by its first act itself -- "whil
 done" (the parameter's ``feasible`` expression: the cell to move onto is free) -- costs 1 plus
 its acts, as a loop over a list does, and a conditional "if it can be done" or "if it does
 something" (its parameter is not an idle one: go to the start unless there) 2 plus its acts:
-moving in a direction until blocked is as plain a request as there is.
+moving in a direction until blocked is as plain a request as there is. Such a loop ended
+early, "until" a condition the promise reads at cost 1 holds (a goal has come into sight),
+costs 1 more.
 Bodies hold one to :data:`MAX_BODY` acts. A library behavior, run whole, is a statement of
 cost :data:`USE`. :meth:`Statements.at` lists those of one cost,
 computed once and capped at :data:`MAX_PER_COST`.
@@ -22,7 +24,7 @@ from typing import Any
 
 from vlb_gym.core.search_space import Parameter, SearchSpace
 
-from .programs import Act, If, Loop, Statement, Use, _list_of
+from .programs import Act, If, Loop, Statement, Use, _list_of, conjunction, negation
 from .terms import Bank, Term
 
 MAX_BODY = 3
@@ -118,13 +120,18 @@ class Statements:
 
     def _idioms(self, cost: int) -> list[Statement]:
         """Loops and conditionals of ``cost`` guarded by their first act itself: while it can
-        be done, with bodies of each length; then if it can be done, if it does something;
+        be done (and, costing 1 more, until a condition read from the promise holds), with
+        bodies of each length; then if it can be done, if it does something;
         those whose bodies choose fewer parameters first (a move and a sense before two
         moves)."""
         out: list[Statement] = []
+        stops = [negation(t.text) for t in self.bank.of("bool", 0, 1) if t.reading]
         for length in range(1, MAX_BODY + 1):
             bodies = self.bodies(cost - 1, length) if cost - 1 >= length else []
             out += [Loop(g, b) for b in bodies if (g := self.feasible(b[0]))]
+            bodies = self.bodies(cost - 2, length) if cost - 2 >= length else []
+            out += [Loop(conjunction([g, stop]), b) for b in bodies
+                    if (g := self.feasible(b[0])) for stop in stops]
         for length in range(1, 3):
             bodies = self.bodies(cost - 2, length) if cost - 2 >= length else []
             out += [If(g, b) for b in bodies for g in self.own_guards(b[0])]
