@@ -291,6 +291,18 @@ def test_the_lists_helpers_read_follow_the_labels_bound_last(maps):
         assert helpers.explored() == known and helpers.frontier_cells() == open_
 
 
+def test_the_label_maps_helpers_remember_are_bounded_by_their_cells():
+    """On the largest grid the helpers remember at most 100 maps (about as many cells as 4,096
+    maps of 10x10), however many they are bound to; what they read stays right past the bound."""
+    helpers = GridHelpers(64)
+    rng = np.random.default_rng(0)
+    for _ in range(250):
+        labels = rng.integers(0, 4, 64 * 64)
+        helpers.bind({"labels": labels, "position": np.array([0.5, 0.5])})
+        assert len(helpers.explored()) == int(np.sum(labels != UNEXPLORED))
+    assert len(helpers._views) <= 100
+
+
 def test_helpers_read_only_the_observation(grid_env):
     helpers = grid_env.unwrapped.make_helpers()
     labels = np.full(100, UNEXPLORED)

@@ -119,3 +119,11 @@ def test_a_value_is_sized_by_its_elements_up_to_the_limit(value, limit):
     too); past the limit the count only says so."""
     size, counted = budget._size(value, limit), _counted(value)
     assert size == counted if counted <= limit else size > limit
+
+
+def test_a_list_sharing_one_long_tuple_is_sized_past_the_limit_without_walking_it():
+    """10,000 references to one 10,000-element tuple (10**8 elements, as an expression can build
+    them cheaply) are sized by their lengths: past the limit at once, nothing flattened."""
+    shared = tuple(range(10_000))
+    assert budget._size([shared] * 10_000) > budget.MAX_WORK
+    assert budget._size([shared] * 9) == 9 + 90_000

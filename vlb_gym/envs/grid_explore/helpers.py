@@ -41,7 +41,7 @@ def cell_index(cell: Any, size: int, fn: str) -> int:
     return i * size + j
 
 
-_MAX_VIEWS = 4096  # distinct label maps remembered (a search revisits the same ones often)
+_MAX_CELLS = 4096 * 100  # cells of the label maps remembered: 4,096 maps of 10x10, 100 of 64x64
 
 
 @dataclass(slots=True)
@@ -69,7 +69,8 @@ class GridHelpers(Helpers):
         self._adjacent = [[self._cells[m] for m in ms] for ms in self._adjacent_flat]
         self._labels: list[int] = []
         self._here: Cell = (0, 0)
-        self._views: dict[bytes, _View] = {}
+        self._views: dict[bytes, _View] = {}  # label maps seen (a search revisits them often)
+        self._max_views = max(1, _MAX_CELLS // (size * size))
         self._view = _View([])
 
     def bind(self, observation: dict[str, Any]) -> None:
@@ -77,7 +78,7 @@ class GridHelpers(Helpers):
         key = labels.tobytes()
         view = self._views.get(key)
         if view is None:
-            if len(self._views) >= _MAX_VIEWS:
+            if len(self._views) >= self._max_views:
                 self._views.clear()
             view = self._views[key] = _View(labels.tolist())
         self._view, self._labels = view, view.labels
