@@ -250,6 +250,35 @@ def test_moving_until_the_promise_says_stop_is_one_step_dearer_than_until_blocke
         search.close()
 
 
+GIVE_UP_AFTER_THREE = Promise(expr=(
+    "all(primitives() == ['sense'] + ['navigate', 'sense'] * k + ['navigate'] * r and "
+    "sensed() == [start_cell()] + moves()[:k] and k <= 3 and final_cell() == start_cell() and "
+    "(steps_after_goal() == r or (steps_after_goal() == -1 and k == 3)) "
+    "for r in [1 if primitives()[-1] == 'navigate' else 0] for k in [len(moves()) - r])"))
+
+
+def test_a_loop_over_a_list_may_end_on_a_condition_or_a_count():
+    """"Search until a goal is in sight, but give up after three moves": a loop over a list
+    ended by it costs 1 more than its acts, ended also by a condition of cost 1 (a goal
+    found, which this promise does not read) 2, and also after at most k moves (a number the
+    request gives) 3; the search finds the last, then home."""
+    search = Search(GRID_ID, GIVE_UP_AFTER_THREE, "sense, then move and sense until a goal is in "
+                    "sight or you made three moves; then go back to the start", screen_seed=3)
+    try:
+        statements = search.statements()
+        body = (Act("navigate", "frontier_cells()[0]"), Act("sense", "current_cell()"))
+        cost = next(c for c in range(2, 8) if body in statements.bodies(c, 2))
+        assert Loop("True", body) in statements.at(cost + 1)
+        assert Loop("not goal_found()", body) in statements.at(cost + 2)
+        give_up = Loop("not goal_found()", body, 3)
+        assert give_up in statements.at(cost + 3)
+        found = search.find(600, max_programs=20_000)  # (a bound that does not hang on load)
+        assert found is not None and give_up in found.program.statements
+        assert search.rescreen(search.document(found, "give_up_after_three", "")) is None
+    finally:
+        search.close()
+
+
 def test_a_direction_the_request_names_is_one_name_from_here():
     """The cell beside the agent in a direction the request names costs one name, as the
     request says it; a direction it does not name costs what the helper's call costs."""

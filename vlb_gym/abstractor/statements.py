@@ -10,7 +10,9 @@ its acts, as a loop over a list does, and a conditional "if it can be done" or "
 something" (its parameter is not an idle one: go to the start unless there) 2 plus its acts:
 moving in a direction until blocked is as plain a request as there is. Such a loop ended
 early, "until" a condition the promise reads at cost 1 holds (a goal has come into sight),
-costs 1 more.
+costs 1 more. So does a loop over a list (1 plus its acts) ended early by any condition of
+cost 1 ("explore until a goal is in sight"), and 1 more again after at most ``k`` rounds, ``k``
+a number the request or promise gives ("but give up after five moves").
 Bodies hold one to :data:`MAX_BODY` acts. A library behavior, run whole, is a statement of
 cost :data:`USE`. :meth:`Statements.at` lists those of one cost,
 computed once and capped at :data:`MAX_PER_COST`.
@@ -120,18 +122,24 @@ class Statements:
 
     def _idioms(self, cost: int) -> list[Statement]:
         """Loops and conditionals of ``cost`` guarded by their first act itself: while it can
-        be done (and, costing 1 more, until a condition read from the promise holds), with
-        bodies of each length; then if it can be done, if it does something;
+        be done (and, costing 1 more, until a condition read from the promise holds), while
+        the list it picks from lasts until a condition of cost 1 holds (and, 1 more, at most
+        ``k`` times), with bodies of each length; then if it can be done, if it does something;
         those whose bodies choose fewer parameters first (a move and a sense before two
         moves)."""
         out: list[Statement] = []
         stops = [negation(t.text) for t in self.bank.of("bool", 0, 1) if t.reading]
+        ends = [negation(t.text) for t in self.bank.of("bool", 0, 1)]
         for length in range(1, MAX_BODY + 1):
             bodies = self.bodies(cost - 1, length) if cost - 1 >= length else []
             out += [Loop(g, b) for b in bodies if (g := self.feasible(b[0]))]
             bodies = self.bodies(cost - 2, length) if cost - 2 >= length else []
             out += [Loop(conjunction([g, stop]), b) for b in bodies
                     if (g := self.feasible(b[0])) for stop in stops]
+            out += [Loop(end, b) for b in bodies if _list_of(b[0].param) for end in ends]
+            bodies = self.bodies(cost - 3, length) if cost - 3 >= length and length <= 2 else []
+            out += [Loop(end, b, k) for b in bodies if _list_of(b[0].param) for end in ends
+                    for k in self.limits]
         for length in range(1, 3):
             bodies = self.bodies(cost - 2, length) if cost - 2 >= length else []
             out += [If(g, b) for b in bodies for g in self.own_guards(b[0])]
