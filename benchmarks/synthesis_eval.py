@@ -11,8 +11,9 @@
 
 For every model, task and sample, the pipeline of :mod:`vlb_gym.abstractor.certified` runs with
 the local backend (or the served model, with the same temperature, seed, token limit and
-redraws) (the model writes the promise, accepted as ``--yes`` would; a search finds a
-behavior that keeps it and certifies it on fresh seeds). With ``--promises`` no model runs:
+redraws) (the model writes the promise, accepted as ``--yes`` would: not one that a least
+behavior keeps, unless the task asks for no more, ``Task.trivial_ok`` as ``--trivial-ok``; a
+search finds a behavior that keeps it and certifies it on fresh seeds). With ``--promises`` no model runs:
 each task's faithful promise (``Task.promise``, what an expert would write) goes to the search
 as ``vlb synthesize --certify --promise`` would, so the search's figure is measured apart from
 the model's (model name ``promises``). Each certified behavior is then run again on its
@@ -103,8 +104,13 @@ class Sample:
         return self.certified and self.faithful == self.judged
 
 
-def _accept(promise: Promise, witnesses: list[str]) -> bool:
-    return True  # as --yes
+def acceptance(task: Task):
+    """The confirmation ``vlb synthesize --yes`` gives for ``task``: every promise but one that
+    a least behavior keeps (it asks for nothing more), unless the task asks for no more
+    (``--trivial-ok``)."""
+    def accept(promise: Promise, witnesses: list[str]) -> bool:
+        return task.trivial_ok or not witnesses
+    return accept
 
 
 def attempt(task: Task, backend: ChatBackend | None, model: str, sample: int, folder: Path,
@@ -119,11 +125,12 @@ def attempt(task: Task, backend: ChatBackend | None, model: str, sample: int, fo
         if task.library else None  # the shipped behaviors, where the task allows them
     if backend is None:
         promise = Promise(expr=task.promise or "", description="")
-        got = certify_promise(task.env_id, task.description, promise, _accept, task.name,
-                              seeds=seeds, budgets=budgets, library=library, workers=workers)
+        got = certify_promise(task.env_id, task.description, promise, acceptance(task),
+                              task.name, seeds=seeds, budgets=budgets, library=library,
+                              workers=workers)
     else:
-        got = synthesize_certified(task.env_id, task.description, backend, _accept, task.name,
-                                   seeds=seeds, budgets=budgets, library=library,
+        got = synthesize_certified(task.env_id, task.description, backend, acceptance(task),
+                                   task.name, seeds=seeds, budgets=budgets, library=library,
                                    workers=workers)
     seconds = got.transcript["seconds"]  # the pipeline's wall time, as the transcript says
     got.transcript["task"] = task.name

@@ -151,6 +151,25 @@ def test_the_harness_evaluates_a_served_model(tmp_path):
     assert len(TranscriptBackend.from_file(transcript).replies) == 5
 
 
+def test_the_harness_takes_a_promise_a_least_behavior_keeps_only_where_the_task_asks_no_more(
+        tmp_path):
+    """As ``--yes`` does: a promise that "sense once" keeps is not certified for a task that asks
+    for more, and is for one that asks for no more (``trivial_ok``, as ``--trivial-ok``)."""
+    from dataclasses import replace
+
+    from benchmarks.synthesis_eval import attempt
+    from benchmarks.synthesis_tasks import task_named
+
+    weak = replace(task_named("explore_all"), promise="primitives()[:1] == ['sense']")
+    refused = attempt(weak, None, "promises", 0, tmp_path)
+    assert not refused.certified
+    transcript = json.loads((tmp_path / "explore_all-0.transcript.json").read_text())
+    assert transcript["witnesses"] == ["sense once where it stands and stop"]
+    assert transcript["finds"] == [] and transcript["certifications"] == []
+    taken = attempt(replace(weak, trivial_ok=True), None, "promises", 0, tmp_path)
+    assert taken.certified and taken.done == 0  # certified, and not the task
+
+
 @pytest.mark.parametrize("folder", ["heldout7", "heldout6", "heldout5", "heldout4", "heldout3",
                                     "heldout2", "dev_general", "heldout"])
 def test_task_files_are_satisfiable_faithful_and_checkable(tmp_path, folder):

@@ -42,7 +42,8 @@ class Task:
     """One natural-language task, its reference behavior and its success check; ``promise``,
     where given, is a faithful promise an expert would write for it (an expression over the
     env's outcome helpers), so that the search can be evaluated apart from the model; ``env_id``
-    the environment it is asked on."""
+    the environment it is asked on; ``trivial_ok``: the task asks for no more than one of the
+    env's least behaviors does (sense once and stop), as a user says with ``--trivial-ok``."""
 
     name: str
     description: str  # what the user types, in plain words
@@ -52,6 +53,7 @@ class Task:
     check: Check  # None when the episode did the task, else why not
     promise: str | None = None
     env_id: str = ENV_ID
+    trivial_ok: bool = False
 
 
 @dataclass(frozen=True)
@@ -304,7 +306,8 @@ def check_visit_all_goals(state: GridState, result: EpisodeResult) -> str | None
 def _task(name: str, difficulty: int, library: bool, check: Check,
           *description: str) -> Task:
     return Task(name, "".join(description), difficulty, library,
-                REFERENCES / f"{name}.json", check, PROMISES[name])
+                REFERENCES / f"{name}.json", check, PROMISES[name],
+                trivial_ok=name == "sense_once")
 
 
 def _trips(n: int) -> str:
