@@ -145,15 +145,6 @@ def conjunction(conditions: list[str]) -> str:
     return " and ".join(f"({p})" if _loose(p) else p for p in parts)
 
 
-def negation(text: str) -> str:
-    """``not text``, parenthesised where ``text`` binds more loosely than ``not``."""
-    try:
-        node = ast.parse(text, mode="eval").body
-    except SyntaxError:
-        return f"not ({text})"
-    return f"not ({text})" if isinstance(node, (ast.BoolOp, ast.IfExp)) else f"not {text}"
-
-
 @lru_cache(maxsize=65536)
 def _loose(text: str) -> bool:
     """Whether ``text`` binds more loosely than ``and`` (an ``or`` or a conditional)."""

@@ -26,8 +26,8 @@ from typing import Any
 
 from vlb_gym.core.search_space import Parameter, SearchSpace
 
-from .programs import Act, If, Loop, Statement, Use, _list_of, conjunction, negation
-from .terms import Bank, Term
+from .programs import Act, If, Loop, Statement, Use, _list_of, conjunction
+from .terms import Bank, Term, negation
 
 MAX_BODY = 3
 MAX_PER_COST = 40_000
@@ -128,8 +128,9 @@ class Statements:
         those whose bodies choose fewer parameters first (a move and a sense before two
         moves)."""
         out: list[Statement] = []
-        stops = [negation(t.text) for t in self.bank.of("bool", 0, 1) if t.reading]
-        ends = [negation(t.text) for t in self.bank.of("bool", 0, 1)]
+        cheapest = self.bank.of("bool", 0, 1)
+        stops = [negation(t.text) for t in cheapest if t.reading]
+        ends = [negation(t.text) for t in cheapest]
         for length in range(1, MAX_BODY + 1):
             bodies = self.bodies(cost - 1, length) if cost - 1 >= length else []
             out += [Loop(g, b) for b in bodies if (g := self.feasible(b[0]))]

@@ -415,10 +415,10 @@ class Bank:
                     yield Term(f"{x} not in {y}", "bool", cost, depth)
         for b in self.of("bool", depth, cost - 1):
             if b.bound == depth and not b.text.startswith("not "):
-                negation = f"not {_wrap(b.text)}"
+                text = negation(b.text)
                 if b.reading:
-                    self._protected.add(negation)
-                yield Term(negation, "bool", cost, depth)
+                    self._protected.add(text)
+                yield Term(text, "bool", cost, depth)
         for a, b in self._pairs("bool", "bool", cost - 1, depth):
             if a.text < b.text:
                 yield Term(f"{_wrap(a.text)} and {_wrap(b.text)}", "bool", cost, depth)
@@ -507,6 +507,11 @@ def _source(text: str) -> str:
 
 
 @lru_cache(maxsize=1 << 16)
+def negation(text: str) -> str:
+    """``not text``, ``text`` parenthesized where it is an operation."""
+    return f"not {_wrap(text)}"
+
+
 def _wrap(text: str) -> str:
     """``text`` parenthesized where it is an operation, to embed it in another."""
     try:
