@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
-from vlb_gym.abstractor.beliefs import numbers, readings
+from vlb_gym.abstractor.beliefs import numbers, readings, witnesses
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
@@ -279,6 +279,33 @@ def test_a_loop_over_a_list_may_end_on_a_condition_or_a_count():
         search.close()
 
 
+TOUR = ("[n for n in [(s[0] + 1, s[1]), (s[0], s[1] + 1), (s[0] - 1, s[1]), (s[0], s[1] - 1)] "
+        "if n in neighbours(s) and not is_obstacle(n)]")
+READ_TOUR = ("[p0 for p0 in [(home[0] + 1, home[1]), (home[0], home[1] + 1), (home[0] - 1, "
+             "home[1]), (home[0], home[1] - 1)] if p0 in adjacent(home) and (not label(p0) == "
+             "'obstacle')]")
+
+
+def test_the_next_of_a_list_read_from_the_promise_is_kept_whatever_it_means():
+    """"Sense, then onto the free cells right, up, left and down of the start": the cells the
+    promise lists, less those stood in, are one name, and the first of them is kept although
+    the decision contexts of this screening seed never tell it from the first free cell
+    beside the agent not yet stood in (cheaper, so it alone was kept, and the tour was never
+    built); the loop over it is found."""
+    search = Search(GRID_ID, Promise(expr=f"all(primitives() == ['sense'] + ['navigate'] * "
+                                          f"len(f) and sensed() == [s] and moves() == f for s "
+                                          f"in [start_cell()] for f in [{TOUR}])"),
+                    "Sense once, then visit the cells right, up, left and down of your start, "
+                    "skipping obstacles", screen_seed=4377546161381800732)
+    try:
+        tour = Loop("True", (Act("navigate", f"[c for c in {READ_TOUR} if c not in path][0]"),))
+        assert any(tour in search.statements().at(cost) for cost in range(2, 7))
+        found = search.find(600, max_programs=20_000)
+        assert found is not None and found.program.statements[1:] == (tour,)
+    finally:
+        search.close()
+
+
 def test_a_direction_the_request_names_is_one_name_from_here():
     """The cell beside the agent in a direction the request names costs one name, as the
     request says it; a direction it does not name costs what the helper's call costs."""
@@ -303,6 +330,39 @@ def test_names_a_promise_binds_to_one_value_are_read_through(interface):
     assert read["label((home[0] - 1, home[1])) == 'obstacle'"] is False
     assert read["(home[0] - 1, home[1])"] is False
     assert not any(" in [" in text for text in read)  # no binding of one value is left
+
+
+@pytest.mark.parametrize("expr, places", [
+    ("not any(not is_obstacle(n) and n[1] > final_cell()[1] for n in neighbours(final_cell()))",
+     "[p0 for p0 in adjacent(current_cell()) if not label(p0) == 'obstacle' and p0[1] > "
+     "current_cell()[1]]"),  # the free cells above: where to go on to, until there are none
+    ("all(is_goal(n) for n in neighbours(final_cell()) if not is_obstacle(n))",
+     "[p0 for p0 in adjacent(current_cell()) if not label(p0) == 'obstacle' and "
+     "(not label(p0) == 'goal')]"),  # those that break it
+])
+def test_the_places_a_quantifier_speaks_of_are_read_as_a_list(interface, expr, places):
+    """Of ``any``, its witnesses; of ``all``, what breaks it: read as lists a behavior may
+    move to (the first of such a list is what a loop over it moves to next)."""
+    space = interface.search_space()
+    read = dict(readings(expr, space, set(interface.make_judge().functions()),
+                         set(interface.make_helpers().functions())))
+    assert read[places] is False
+    assert read[places.replace("current_cell()", "c")] is True  # where it would end
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(-5, 5), max_size=8), st.integers(-5, 5), st.integers(-5, 5),
+       st.sampled_from(["any", "all"]))
+def test_a_quantifier_holds_as_its_list_of_places_says(xs, low, high, quantifier):
+    """``any(E ...)`` holds exactly where its witnesses are some, ``all(E ...)`` exactly where
+    nothing breaks it; each listed element keeps the filter and E (breaks E for all)."""
+    expr = f"{quantifier}(n * n < {high * high} for n in {xs} if n > {low})"
+    (places,) = witnesses(ast.parse(expr, mode="eval").body)
+    listed = eval(ast.unparse(places))  # noqa: S307 - built here
+    holds = eval(expr)  # noqa: S307
+    assert holds == (bool(listed) if quantifier == "any" else not listed)
+    wanted = [n for n in xs if n > low and (n * n < high * high) == (quantifier == "any")]
+    assert listed == wanted
 
 
 FREE = "if not is_obstacle(n)"

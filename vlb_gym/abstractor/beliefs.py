@@ -12,7 +12,8 @@ ended in c?": a filter for where to go). Every sub-expression of the readings is
 with the constants the promise and the request name (numbers, cells, lists of cells). A place
 the promise says is the least or greatest of a list's elements by some score (the nearest, the
 one with the fewest obstacles next to it: :func:`extremes`) is read as the expression that picks
-it, so that going there costs one name too.
+it, so that going there costs one name too, and so are the places a quantifier speaks of
+(:func:`witnesses`: of ``any``, where it holds; of ``all``, where it does not).
 """
 
 from __future__ import annotations
@@ -353,13 +354,30 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
             if not isinstance(node, ast.expr) or isinstance(
                     node, (ast.Name, ast.Constant, ast.Slice, ast.GeneratorExp)):
                 continue
-            free = _free_names(node)
-            if not free <= known | ({variable} if bound else set()):
-                continue
-            uses = variable in free
-            if uses == bound:
-                out.setdefault(ast.unparse(node), uses)
+            for part in (node, *witnesses(node)):
+                free = _free_names(part)
+                if free <= known | ({variable} if bound else set()) \
+                        and (variable in free) == bound:
+                    out.setdefault(ast.unparse(part), bound)
     return list(out.items())[:MAX_READINGS]
+
+
+def witnesses(node: ast.expr) -> list[ast.expr]:
+    """Of ``any(E for x in L if P)``, the list of its witnesses ``[x for x in L if P and
+    E]`` (the places that would make it hold: a place to go to); of ``all(...)``, of those
+    that break it, ``[x for x in L if P and not E]`` (the places left to be seen to)."""
+    if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+            and node.func.id in ("any", "all") and len(node.args) == 1 and not node.keywords
+            and (generator := _generator(node.args[0])) is not None):
+        return []
+    test = copy.deepcopy(node.args[0].elt)
+    if node.func.id == "all":
+        test = ast.UnaryOp(ast.Not(), test)
+    test = ast.BoolOp(ast.And(), [*copy.deepcopy(generator.ifs), test]) if generator.ifs else test
+    name = generator.target.id
+    return [ast.fix_missing_locations(ast.ListComp(ast.Name(name, ast.Load()), [
+        ast.comprehension(ast.Name(name, ast.Store()), copy.deepcopy(generator.iter), [test],
+                          0)]))]
 
 
 def _readable(reader: _Reader, node: ast.AST) -> list[ast.AST]:

@@ -212,9 +212,10 @@ class Bank:
         return per_context[index] if per_context else []
 
     # -- keeping terms -------------------------------------------------------------------------
-    def add(self, term: Term, protected: bool = False) -> bool:
+    def add(self, term: Term, protected: bool = False, anyway: bool = False) -> bool:
         """Keep ``term`` if the package's expression checker accepts it and it means
-        something new on the contexts (``protected``: whatever it means) and there is room."""
+        something new on the contexts (``protected``, a reading of the promise, or ``anyway``:
+        whatever it means) and there is room."""
         key = (term.kind, term.bound)
         kept = self.terms.setdefault(key, [])
         texts = self._texts.setdefault(key, set())
@@ -222,7 +223,7 @@ class Bank:
             return False  # (a protected text, kept at its least cost, is kept once)
         values = self._values(term.text, term.bound, term.kind)
         seen = self._seen.setdefault(key, set())
-        if not protected and (values is None or values in seen):
+        if not (protected or anyway) and (values is None or values in seen):
             return False
         seen.add(values)
         texts.add(term.text)
@@ -258,10 +259,12 @@ class Bank:
             if kind not in self._samples:
                 self._samples[kind] = self._sample(kind)
         self._protected = {text for _, text, _ in v.fragments}
+        self._anyway: set[str] = set()
         for cost in range(1, self.max_cost + 1):
             for depth in range(len(binders) + 1):
                 for term in self._level(cost, depth):
-                    self.add(term, protected=term.text in self._protected)
+                    self.add(term, protected=term.text in self._protected,
+                             anyway=term.text in self._anyway)
         return self
 
     def _sample(self, kind: str) -> list[list[Any]]:
@@ -368,6 +371,8 @@ class Bank:
             for xs in self.of(kind, depth, cost - 1):
                 if xs.bound != depth:
                     continue
+                if xs.text in self._protected and _comprehension(xs.text):
+                    self._anyway.add(f"{_wrap(xs.text)}[0]")  # what a loop over it moves to
                 yield Term(f"{_wrap(xs.text)}[0]", item, cost, depth)
                 yield Term(f"{_wrap(xs.text)}[-1]", item, cost, depth)
                 yield Term(f"len({xs.text})", "int", cost, depth)
@@ -495,7 +500,6 @@ def _kind_of_value(value: Any, named: Mapping[str, Any]) -> str | None:
 
 
 @lru_cache(maxsize=1 << 16)
-@lru_cache(maxsize=1 << 16)
 def _source(text: str) -> str:
     """``text`` parenthesized where it cannot be a comprehension's source as it is (a
     conditional expression, a lambda)."""
@@ -506,12 +510,22 @@ def _source(text: str) -> str:
     return f"({text})" if isinstance(node, (ast.IfExp, ast.Lambda)) else text
 
 
+def _comprehension(text: str) -> bool:
+    """Whether ``text`` is a list comprehension (whose first element changes as a loop over it
+    moves on; a list display's ``[x][0]`` is only ``x``)."""
+    try:
+        return isinstance(ast.parse(text, mode="eval").body, ast.ListComp)
+    except SyntaxError:
+        return False
+
+
 @lru_cache(maxsize=1 << 16)
 def negation(text: str) -> str:
     """``not text``, ``text`` parenthesized where it is an operation."""
     return f"not {_wrap(text)}"
 
 
+@lru_cache(maxsize=1 << 16)
 def _wrap(text: str) -> str:
     """``text`` parenthesized where it is an operation, to embed it in another."""
     try:
