@@ -14,7 +14,9 @@ from vlb_gym.cli import main
 
 GRID = "VLB-GridExplore-v0"
 NOISY = ["--env-kwarg", "action_noise=1.0"]  # about 1.7% of episodes fail
-TOKEN = re.compile(r"(?<![\d.])-?\d\.\d{2,}(?![\d.])")
+# a number that may render a probability: not a time (a node's mean step, "0.55 ms", which
+# once read as the confidence 0.548 rounded up) nor a percentage
+TOKEN = re.compile(r"(?<![\d.])-?\d\.\d{2,}(?![\d.])(?!\s*(?:ms|s|%)\b)(?!%)")
 
 
 def renderings(value: float, digits: int) -> set[str]:
