@@ -500,40 +500,37 @@ def _kind_of_value(value: Any, named: Mapping[str, Any]) -> str | None:
 
 
 @lru_cache(maxsize=1 << 16)
+def _shape(text: str) -> type[ast.expr] | None:
+    """The kind of node ``text`` parses to (None: it does not parse), parsed once per text."""
+    try:
+        return type(ast.parse(text, mode="eval").body)
+    except SyntaxError:
+        return None
+
+
 def _source(text: str) -> str:
     """``text`` parenthesized where it cannot be a comprehension's source as it is (a
     conditional expression, a lambda)."""
-    try:
-        node = ast.parse(text, mode="eval").body
-    except SyntaxError:
-        return f"({text})"
-    return f"({text})" if isinstance(node, (ast.IfExp, ast.Lambda)) else text
+    return f"({text})" if _shape(text) in (None, ast.IfExp, ast.Lambda) else text
 
 
 def _comprehension(text: str) -> bool:
     """Whether ``text`` is a list comprehension (whose first element changes as a loop over it
     moves on; a list display's ``[x][0]`` is only ``x``)."""
-    try:
-        return isinstance(ast.parse(text, mode="eval").body, ast.ListComp)
-    except SyntaxError:
-        return False
+    return _shape(text) is ast.ListComp
 
 
-@lru_cache(maxsize=1 << 16)
 def negation(text: str) -> str:
     """``not text``, ``text`` parenthesized where it is an operation."""
     return f"not {_wrap(text)}"
 
 
-@lru_cache(maxsize=1 << 16)
+_OPERATIONS = (None, ast.BoolOp, ast.Compare, ast.IfExp, ast.UnaryOp, ast.BinOp, ast.Lambda)
+
+
 def _wrap(text: str) -> str:
     """``text`` parenthesized where it is an operation, to embed it in another."""
-    try:
-        node = ast.parse(text, mode="eval").body
-    except SyntaxError:
-        return f"({text})"
-    operation = (ast.BoolOp, ast.Compare, ast.IfExp, ast.UnaryOp, ast.BinOp, ast.Lambda)
-    return f"({text})" if isinstance(node, operation) else text
+    return f"({text})" if _shape(text) in _OPERATIONS else text
 
 
 def builtins_namespace() -> dict[str, Any]:
