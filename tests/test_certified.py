@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
-from vlb_gym.abstractor.beliefs import numbers, readings, witnesses
+from vlb_gym.abstractor.beliefs import MAX_READINGS, numbers, readings, witnesses
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
@@ -348,6 +348,21 @@ def test_the_places_a_quantifier_speaks_of_are_read_as_a_list(interface, expr, p
                          set(interface.make_helpers().functions())))
     assert read[places] is False
     assert read[places.replace("current_cell()", "c")] is True  # where it would end
+
+
+def test_a_promise_of_many_quantifiers_gives_a_bounded_number_of_lists(interface):
+    """A hostile promise -- quantifiers inside quantifiers, many of them -- gives at most
+    MAX_READINGS readings, its lists among them, each a parseable expression."""
+    inner = "is_obstacle(n)"
+    for _ in range(6):
+        inner = f"any({inner} for n in neighbours(final_cell()))"
+    expr = " and ".join([inner] * 20 + [f"not all({inner} for m in known_cells())"])
+    read = readings(expr, interface.search_space(), set(interface.make_judge().functions()),
+                    set(interface.make_helpers().functions()))
+    assert 0 < len(read) <= MAX_READINGS
+    assert any(text.startswith("[") for text, _ in read)
+    for text, _ in read:
+        ast.parse(text, mode="eval")
 
 
 @settings(max_examples=200, deadline=None)
