@@ -168,7 +168,7 @@ BAD_DOCS = [
     bad("unknown helper", "expressions", "functions.frontier.expr",
         "call to 'explord', which is not a whitelisted function; did you mean 'explored'? "
         "(functions here: adjacent, beside, current_cell, explored, frontier, frontier_cells, "
-        "goal_cell, goal_found, is_free, label, manhattan)",
+        "goal_cell, goal_found, is_free, label, manhattan, opposite)",
         functions={"frontier": {"args": [], "expr": "explord()"}}),
     bad("misspelled key", "schema", "edges[0].form",
         "Extra inputs are not permitted (did you mean 'from'?)",
@@ -303,6 +303,31 @@ def test_the_label_maps_helpers_remember_are_bounded_by_their_cells():
     assert len(helpers._views) <= 100
 
 
+@settings(max_examples=300, deadline=None)
+@given(size=st.integers(2, 12), here=st.tuples(st.integers(0, 11), st.integers(0, 11)),
+       step=st.sampled_from([(1, 0), (-1, 0), (0, 1), (0, -1), (0, 0), (1, 1), (2, 0)]))
+def test_the_opposite_cell_is_across_the_agent_from_its_neighbour(size, here, step):
+    """``opposite(n)``, ``n`` beside the agent, is the cell across the agent from it (here +
+    (here - n)) where that lies on the grid, else None; None too where ``n`` is not beside the
+    agent; a cell off the grid is refused with the helper's name."""
+    helpers = GridHelpers(size)
+    here = (here[0] % size, here[1] % size)
+    helpers.bind({"labels": np.full(size * size, UNEXPLORED),
+                  "position": np.array([here[0] + 0.5 - size / 2, here[1] + 0.5 - size / 2])})
+    assert helpers.current_cell() == here
+    n = (here[0] - step[0], here[1] - step[1])
+    if not all(0 <= v < size for v in n):
+        with pytest.raises(ValueError, match=r"opposite\(\): .* not a cell of the"):
+            helpers.opposite(n)
+        return
+    across = (here[0] + step[0], here[1] + step[1])
+    if n not in helpers.adjacent() or not all(0 <= v < size for v in across):
+        assert helpers.opposite(n) is None
+        return
+    assert helpers.opposite(n) == across and across in helpers.adjacent()
+    assert helpers.manhattan(n, across) == 2
+
+
 def test_helpers_read_only_the_observation(grid_env):
     helpers = grid_env.unwrapped.make_helpers()
     labels = np.full(100, UNEXPLORED)
@@ -328,5 +353,5 @@ def test_helpers_read_only_the_observation(grid_env):
     described = helpers.describe()
     assert {name.split("(")[0] for name in described} == {
         "explored", "adjacent", "goal_found", "goal_cell", "current_cell", "label",
-        "frontier_cells", "manhattan", "beside", "is_free"}
+        "frontier_cells", "manhattan", "beside", "opposite", "is_free"}
     assert all(text for text in described.values())

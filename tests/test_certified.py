@@ -7,6 +7,7 @@ import ast
 import json
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import gymnasium as gym
@@ -306,6 +307,40 @@ def test_the_next_of_a_list_read_from_the_promise_is_kept_whatever_it_means():
         search.close()
 
 
+# heldout7's straight_two_steps (development data since its one run)
+STRAIGHT_ON = Promise(expr=(
+    "primitives()[:3] == ['sense', 'navigate', 'sense'] and all(sensed()[:2] == [start_cell(), "
+    "a] and a in neighbours(start_cell()) and not is_obstacle(a) and (primitives() == ['sense', "
+    "'navigate', 'sense', 'navigate', 'sense'] and moves() == [a, b] and sensed()[2:] == [b] if "
+    "b in neighbours(a) and not is_obstacle(b) else len(primitives()) == 3) for a in "
+    "moves()[:1] for b in [(2 * a[0] - start_cell()[0], 2 * a[1] - start_cell()[1])])"))
+AHEAD = "opposite(home)"
+
+
+def test_one_more_step_the_way_the_first_went_is_a_term_of_the_grid():
+    """"Step anywhere, then keep going the same way if you can": after one move the cell
+    straight on is the one across the agent from the start, ``opposite(home)`` (cost 3: a
+    helper the request does not name, and a name), the step onto it "if it can be done" a
+    statement of cost 7, and the behavior with it keeps the promise on every screening
+    episode, run by the package's runtime too; the search finds the loop form of it (which
+    acts the same) in about 55,000 programs, too many for this suite."""
+    search = Search(GRID_ID, STRAIGHT_ON, "Sense, step onto any free cell next to you and "
+                    "sense again. Then try to keep going the same way", screen_seed=777)
+    try:
+        statements = search.statements()
+        assert {t.text: t.cost for t in statements.bank.of("cell")}[AHEAD] == 3
+        ahead = If(f"is_free({AHEAD})", (Act("navigate", AHEAD), Act("sense", "current_cell()")))
+        assert ahead in statements.at(7)
+        program = Program((Act("sense", "current_cell()"),
+                           Act("navigate", "frontier_cells()[0]"),
+                           Act("sense", "current_cell()"), ahead))
+        assert search.keeps(program)
+        assert search.rescreen(program.document(search.space, "straight_on", "", GRID_ID)) is None
+        assert not search.keeps(Program(program.statements[:3]))  # the step is needed
+    finally:
+        search.close()
+
+
 def test_a_direction_the_request_names_is_one_name_from_here():
     """The cell beside the agent in a direction the request names costs one name, as the
     request says it; a direction it does not name costs what the helper's call costs."""
@@ -550,6 +585,40 @@ def test_an_expert_promise_is_certified_through_the_engine_on_fresh_seeds():
     fresh = certify_promise(GRID_ID, REQUEST, HOME, yes, "home_again")
     assert fresh.certified and fresh.certificate.seed not in (101, certificate.seed)
     assert fresh.transcript["seeds"]["screen"][0] != 11
+
+
+RARE_STEP = Promise(expr=(
+    "sensed() == [start_cell()] and (primitives() == ['sense', 'navigate'] and "
+    "is_goal(final_cell()) if any(is_goal(c) for c in neighbours(start_cell())) and "
+    "len([c for c in neighbours(start_cell()) if is_obstacle(c)]) >= 1 else "
+    "primitives() == ['sense'])"))
+
+
+def test_a_failed_certification_sends_the_search_on_whatever_the_campaign_took(monkeypatch):
+    """The time limit bounds the search, not the certification campaigns (a scoop's takes
+    minutes): "sense" keeps this promise on all 30 screening episodes of seed 7 (a goal and an
+    obstacle beside the start are rare) and fails 7 of the 112 of certification seed 1007; with
+    a clock on which that campaign takes 10,000 s, the search goes on from those episodes and
+    the step onto the goal is certified on the next seed."""
+    import vlb_gym.abstractor.certified as certified
+
+    offset = [0.0]
+    clock = time.perf_counter
+    monkeypatch.setattr(time, "perf_counter", lambda: clock() + offset[0])
+
+    def campaign(*args, **kwargs):
+        offset[0] += 10_000.0
+        return certify(*args, **kwargs)
+
+    monkeypatch.setattr(certified, "certify", campaign)
+    got = certify_promise(GRID_ID, "sense; step onto a goal beside you if an obstacle is beside "
+                          "you too", RARE_STEP, yes, "rare_step", time_limit=120,
+                          seeds=Seeds(screen=[7], certify=[1007, 1008, 1009]))
+    first, second = got.transcript["certifications"]
+    assert first["program"] == "sense(current_cell())" and first["successes"] == 105
+    assert first["learned"] and second["successes"] == second["episodes"] == 112
+    assert got.certified and "navigate" in got.words
+    assert got.certificate.seed == 1008 and got.transcript["seconds"] > 20_000
 
 
 def test_a_replay_with_the_recorded_seeds_and_budgets_finds_the_same_behavior():

@@ -10,9 +10,10 @@ the model's drafts agree on):
 2. the search finds the cheapest behavior that keeps it on the screening episodes (a root seed
    drawn afresh), re-run through the package's runtime;
 3. the behavior is certified by a fixed-N campaign on fresh seeds
-   (:mod:`~vlb_gym.abstractor.certify`); one that fails sends the search on, up to
-   :data:`~vlb_gym.abstractor.certify.ATTEMPTS` certifications, whose union bound the
-   confidence accounts for. The document saved carries its certificate.
+   (:mod:`~vlb_gym.abstractor.certify`); one that fails sends the search on with the time it
+   has left (``time_limit`` bounds the search, not the campaigns: a scoop's certification
+   takes minutes), up to :data:`~vlb_gym.abstractor.certify.ATTEMPTS` certifications, whose
+   union bound the confidence accounts for. The document saved carries its certificate.
 
 :func:`synthesize_certified` puts a language model first: it writes the promise ``drafts``
 times, each shown other worked examples of the env's bank
@@ -185,7 +186,7 @@ def certify_promise(env_id: str, request: str, promise: Promise, confirm: Confir
             return _ended(request, promise, None, None, True, transcript, started, witnesses)
         skip: set[str] = set()
         while len(transcript["certifications"]) < ATTEMPTS:
-            left = time_limit - (time.perf_counter() - started)
+            left = time_limit - search.tally.seconds  # the search's time: not the campaigns'
             found = run.find(search, max(left, 0.0), frozenset(skip))
             if found is None:
                 break

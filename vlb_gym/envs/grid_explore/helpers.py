@@ -155,6 +155,19 @@ class GridHelpers(Helpers):
         return (i, j) if 0 <= i < self.size and 0 <= j < self.size else None
 
     @helper
+    def opposite(self, cell: Cell) -> Cell | None:
+        """The cell on the other side of the agent from its neighbour ``cell``:
+        ``opposite(path[-2])`` is one more step the way the last move went,
+        ``opposite(o)`` the step straight away from the obstacle ``o`` beside the agent. None
+        where ``cell`` is not beside the agent or that cell is outside the grid."""
+        k, (i, j) = self._index(cell, "opposite"), self._here
+        di, dj = i - k // self.size, j - k % self.size
+        if abs(di) + abs(dj) != 1:
+            return None
+        i, j = i + di, j + dj
+        return (i, j) if 0 <= i < self.size and 0 <= j < self.size else None
+
+    @helper
     def is_free(self, cell: Cell | None) -> bool:
         """Whether ``cell`` is known to be free: labelled 'empty' or 'goal' (None, outside the
         grid, is not)."""
