@@ -33,7 +33,7 @@ from vlb_gym.core.search_space import SearchSpace
 
 BOUND = ("c", "n")  # names of bound variables, by depth
 MAX_COST = 9
-MAX_KEPT = 480  # expressions kept per kind and binding (the grid's cells of cost <= 6, with opposite)
+MAX_KEPT = 480  # expressions kept per kind and binding (all the grid's cells of cost <= 6)
 _FAILED = object()
 
 
