@@ -328,6 +328,16 @@ def test_the_opposite_cell_is_across_the_agent_from_its_neighbour(size, here, st
     assert helpers.manhattan(n, across) == 2
 
 
+@pytest.mark.parametrize("cell", [None, "A1", (True, 0), (10**30, 0), (1.0, 2), (1, 2, 3),
+                                  ((1, 2), 3), (-1, 0), (0, 10)])
+def test_opposite_refuses_what_is_not_a_cell_in_one_line(cell):
+    """A behavior's argument to ``opposite`` is untrusted: anything but a cell of the grid is
+    refused with the helper's name before any arithmetic."""
+    helpers = GridHelpers(10)
+    with pytest.raises(ValueError, match=r"^opposite\(\): .* not a cell"):
+        helpers.opposite(cell)
+
+
 def test_helpers_read_only_the_observation(grid_env):
     helpers = grid_env.unwrapped.make_helpers()
     labels = np.full(100, UNEXPLORED)

@@ -619,7 +619,7 @@ def test_a_failed_certification_sends_the_search_on_whatever_the_campaign_took(m
     assert first["program"] == "sense(current_cell())" and first["successes"] == 105
     assert first["learned"] and second["successes"] == second["episodes"] == 112
     assert got.certified and "navigate" in got.words
-    assert got.certificate.seed == 1008 and got.transcript["seconds"] > 20_000
+    assert got.certificate.seed == 1008 and offset[0] == 20_000  # two campaigns on the clock
 
 
 def test_a_replay_with_the_recorded_seeds_and_budgets_finds_the_same_behavior():
