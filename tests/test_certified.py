@@ -107,6 +107,52 @@ def test_a_promise_no_behavior_keeps_is_searched_within_its_budget():
         search.close()
 
 
+def test_a_search_bounded_by_time_looks_further_for_part_of_its_time(monkeypatch):
+    """Once a behavior is found, a search bounded by time alone goes on for at most half the
+    seconds it took (at least LOOK_FURTHER_MIN_SECONDS), not for a thousand programs: on a
+    clock where each program takes a second (a scoop's take several), that is about half the
+    programs built before the find; a search bounded by programs looks further by programs
+    (what a replay of a transcript's budgets needs)."""
+    import vlb_gym.abstractor.search as searching
+
+    offset = [0.0]
+    clock = time.perf_counter
+    monkeypatch.setattr(time, "perf_counter", lambda: clock() + offset[0])
+    child = Search._child
+
+    def slow(self, *args):
+        offset[0] += 1.0
+        return child(self, *args)
+
+    monkeypatch.setattr(Search, "_child", slow)
+    first: list[int] = []
+    accept = Search._accept
+
+    def noted(self, node, skip):
+        steps = accept(self, node, skip)
+        if steps is not None and not first:
+            first.append(self.tally.built)
+        return steps
+
+    monkeypatch.setattr(Search, "_accept", noted)
+    timed = Search(GRID_ID, HOME, REQUEST, screen_seed=7)
+    try:
+        batch = 1 + len(timed.statements().completions())  # (built between two looks at the
+        assert timed.find(100_000) is not None  # clock; the grammar is built before it starts)
+        b, real = first[0], timed.tally.seconds - timed.tally.built
+        further = max(searching.LOOK_FURTHER_MIN_SECONDS, (b + real) * searching.LOOK_FURTHER)
+        assert timed.tally.built <= b + further + batch < b + searching.LOOK_FURTHER_MIN
+    finally:
+        timed.close()
+    first.clear()
+    counted = Search(GRID_ID, HOME, REQUEST, screen_seed=7)
+    try:
+        assert counted.find(10**9, max_programs=10**6) is not None
+        assert counted.tally.built >= first[0] + searching.LOOK_FURTHER_MIN
+    finally:
+        counted.close()
+
+
 # heldout2's sense_goal_or_stay (development data): a goal right beside the start is rare, so
 # "go to a known goal" acts on no probe episode of seed 12345 and is pruned as acting like
 # "sense" until an episode with such a goal fails "sense" and joins the probes
@@ -759,7 +805,8 @@ def test_cli_yes_takes_no_promise_a_least_behavior_keeps_unless_told(tmp_path):
     """A request to find a goal with a promise that standing still keeps: --yes certifies
     nothing (the least behavior would be certified); --trivial-ok, for a request that asks
     for no more, certifies it."""
-    request, weak = "Find a goal, then come back to where you started.", "final_cell() == start_cell()"
+    request = "Find a goal, then come back to where you started."
+    weak = "final_cell() == start_cell()"
     proc = vlb("synthesize", GRID_ID, request, "--certify", "--promise", weak, "--yes",
                "--out", str(tmp_path / "w.json"))
     assert proc.returncode == 1 and "not accepted: --yes takes no promise" in proc.stdout

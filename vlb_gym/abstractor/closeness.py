@@ -6,9 +6,11 @@ promise (:mod:`~vlb_gym.abstractor.search`). A promise is a condition, true or f
 formulas: ``a and b`` scores the mean of its parts, ``a or b`` the best, ``x if c else y`` the
 branch its condition takes; ``==`` between sequences scores the share of their common prefix
 (so two of four round trips done is halfway), between numbers ``1 / (1 + |a - b|)``, and so
-do ``<``, ``<=``, ``>``, ``>=`` when they fail. Anything else (a call, ``in``, a comprehension,
-a chained comparison) scores 1 if it holds, else 0; a part that raises scores 0. Every part is
-a checked expression of the outcome helpers, evaluated under the judging budget.
+do ``<``, ``<=``, ``>``, ``>=`` when they fail (``a < b`` failing where ``a == b`` scores 1/2:
+less than 1, or ``not`` would turn a failing ``9 < 9`` into a part that fails). Anything else
+(a call, ``in``, a comprehension, a chained comparison) scores 1 if it holds, else 0; a part
+that raises scores 0. Every part is a checked expression of the outcome helpers, evaluated
+under the judging budget.
 """
 
 from __future__ import annotations
@@ -91,5 +93,6 @@ def _compared(holds: Callable[[dict[str, Any]], bool], left: Callable[..., Any],
     numbers = (int, float)
     if isinstance(a, numbers) and isinstance(b, numbers) and not isinstance(a, bool) \
             and not isinstance(b, bool):
-        return 1.0 / (1.0 + abs(a - b))
+        far = abs(a - b)  # (0 where ``a < b`` fails at a == b; tiny between close floats)
+        return 1.0 / (1.0 + far) if 1.0 + far > 1.0 else 0.5
     return 0.0

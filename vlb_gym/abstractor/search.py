@@ -58,6 +58,7 @@ PROGRESS_WEIGHT = 4.0
 STEP_WEIGHT = 0.05
 LOOK_FURTHER = 0.5  # of the programs built before the first find, built after it
 LOOK_FURTHER_MIN = 1000
+LOOK_FURTHER_MIN_SECONDS = 10.0  # (a search bounded by time: see Search.find)
 MAX_STATEMENTS = 4
 MAX_LEVEL = 24
 MAX_FAILURES_KEPT = 5
@@ -295,10 +296,13 @@ class Search:
         """The least program (skipping those whose words are in ``skip``) that keeps the
         promise on every screening episode, or None within ``time_limit`` seconds or
         ``max_programs`` programs built. Once one is found, the search goes on for
-        :data:`LOOK_FURTHER` of the programs built so far (at least :data:`LOOK_FURTHER_MIN`):
-        of those found, the one that runs the fewest primitives on the screening episodes is
-        kept (a promise seldom asks for more than it says: not "explore everything" where
-        "explore until a goal is known" keeps it), the cheapest on a tie."""
+        :data:`LOOK_FURTHER` of the programs built so far (at least :data:`LOOK_FURTHER_MIN`)
+        and, in a search bounded by time alone, for at most :data:`LOOK_FURTHER` of its seconds
+        so far (at least :data:`LOOK_FURTHER_MIN_SECONDS`: where a program takes seconds to
+        screen, as the scoop's do, a thousand would take the whole limit): of those found,
+        the one that runs the fewest primitives on the screening episodes is kept (a promise
+        seldom asks for more than it says: not "explore everything" where "explore until a
+        goal is known" keeps it), the cheapest on a tie."""
         started = time.perf_counter()
         statements = self.statements()
         completions = statements.completions()
@@ -310,13 +314,14 @@ class Search:
         seen: set[Any] = set()
         best: tuple[int, int, Found] | None = None
         until: int | None = None  # programs built when the search stops looking further
+        deadline = started + time_limit  # (moved up once one is found, where time bounds it)
         try:
             while heap:
                 if self._counterexample is not None:  # a new probe: begin again
                     self.probes.append(self._counterexample)
                     self._counterexample = None
                     heap, seen = root(), set()
-                if time.perf_counter() - started > time_limit or (
+                if time.perf_counter() > deadline or (
                         max_programs is not None and self.tally.built >= max_programs) or (
                         until is not None and self.tally.built >= until):
                     break
@@ -349,6 +354,10 @@ class Search:
                     if until is None:
                         built = self.tally.built
                         until = built + max(LOOK_FURTHER_MIN, int(built * LOOK_FURTHER))
+                        if max_programs is None:
+                            now = time.perf_counter()
+                            deadline = min(deadline, now + max(
+                                LOOK_FURTHER_MIN_SECONDS, (now - started) * LOOK_FURTHER))
         finally:
             self.tally.seconds += time.perf_counter() - started
             self.tally.executed = self.executor.executed
