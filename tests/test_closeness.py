@@ -56,3 +56,11 @@ def test_closeness_is_one_exactly_when_the_condition_holds(condition, bound):
 def test_closeness_grades_along_the_promise(condition, expected):
     bound = guard_namespace({"x": 9, "y": 0, "z": 0, "xs": [1, 2], "ys": []})
     assert Closeness(condition, NAMES)(bound) == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("w", [float("inf"), float("-inf"), float("nan"), 10**30, -10**30])
+@pytest.mark.parametrize("condition", ["w < 60", "w == 60", "not (w >= 60)", "w > 60"])
+def test_closeness_of_extreme_values_stays_a_score_that_is_one_only_when_it_holds(w, condition):
+    score = Closeness(condition, NAMES)(guard_namespace({"w": w}))
+    assert 0.0 <= score <= 1.0
+    assert (score == 1.0) == bool(eval(condition, {}, {"w": w}))  # noqa: S307

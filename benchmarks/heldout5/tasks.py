@@ -37,7 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, first_reaching,
-                                        grams_in_receiver, moves, neighbours, reachable, scoops)
+                                        grams_in_receiver, grams_spilled, moves, neighbours,
+                                        reachable, scoops)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -96,19 +97,6 @@ def _goal_step(state, rest) -> str | None:
         return f"after finding a goal it ran {rest[:3]}"
     return None
 
-
-def _grams_spilled(state) -> float:
-    """Grams of grains outside the receiver, the donor and the spoon's tray now, counted from
-    the simulation as the scoop primitive counts them after each scoop."""
-    from vlb_gym.envs.scoop.controller import grains_in_box, grains_in_scoop
-    from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
-                                          RECEIVER_WALL)
-
-    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
-    delivered = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
-    kept = grains_in_box(positions, state.env.donor, DONOR_HALF, DONOR_WALL)
-    tray = grains_in_scoop(positions, state.data, state.scene.model.site("scoop").id)
-    return float((~(delivered | kept | tray)).sum()) * GRAIN_MASS * 1000
 
 
 # --- checks -------------------------------------------------------------------------------
@@ -271,7 +259,7 @@ def check_two_scoops_tidy(state, result):
     n = len(scoops(result))
     if len(result.steps) != 2 or n != 2:
         return f"{n} scoop(s)"
-    spilled = _grams_spilled(state)
+    spilled = grams_spilled(state)
     return None if spilled <= 25 else f"{spilled:.1f} g spilled"
 
 

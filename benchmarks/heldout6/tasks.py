@@ -41,7 +41,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, first_reaching,
-                                        grams_in_receiver, moves, neighbours, scoops)
+                                        grams_in_receiver, grams_spilled, moves, neighbours,
+                                        scoops)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -96,19 +97,6 @@ def _sense(state, known, step) -> None:
         for n in [step[1], *neighbours(state, step[1])]:
             known[n] = True
 
-
-def _grams_spilled(state) -> float:
-    """Grams of grains outside the receiver, the donor and the spoon's tray now, counted from
-    the simulation as the scoop primitive counts them after each scoop."""
-    from vlb_gym.envs.scoop.controller import grains_in_box, grains_in_scoop
-    from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
-                                          RECEIVER_WALL)
-
-    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
-    delivered = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
-    kept = grains_in_box(positions, state.env.donor, DONOR_HALF, DONOR_WALL)
-    tray = grains_in_scoop(positions, state.data, state.scene.model.site("scoop").id)
-    return float((~(delivered | kept | tray)).sum()) * GRAIN_MASS * 1000
 
 
 # --- checks -------------------------------------------------------------------------------
@@ -292,7 +280,7 @@ def check_two_scoops_threefold_clean(state, result):
     n = len(scoops(result))
     if len(result.steps) != 2 or n != 2:
         return f"{n} scoop(s)"
-    mass, spilled = grams_in_receiver(state), _grams_spilled(state)
+    mass, spilled = grams_in_receiver(state), grams_spilled(state)
     return None if mass >= 3 * spilled else f"{mass:.1f} g delivered, {spilled:.1f} g spilled"
 
 

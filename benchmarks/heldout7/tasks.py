@@ -64,8 +64,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, grams_in_receiver, moves,
-                                        neighbours, reachable, scoops)
+from benchmarks.synthesis_tasks import (Task, cell, exhausted, grams_in_receiver, grams_spilled,
+                                        moves, neighbours, reachable, scoops)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -112,19 +112,6 @@ def _shown(state, c) -> list[tuple[int, int]]:
     """The cells a sense at ``c`` labels: ``c`` and the cells next to it."""
     return [c, *neighbours(state, c)]
 
-
-def _grams_spilled(state) -> float:
-    """Grams of grains outside the receiver, the donor and the spoon's tray now, counted from
-    the simulation as the scoop primitive counts them after each scoop."""
-    from vlb_gym.envs.scoop.controller import grains_in_box, grains_in_scoop
-    from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
-                                          RECEIVER_WALL)
-
-    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
-    delivered = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
-    kept = grains_in_box(positions, state.env.donor, DONOR_HALF, DONOR_WALL)
-    tray = grains_in_scoop(positions, state.data, state.scene.model.site("scoop").id)
-    return float((~(delivered | kept | tray)).sum()) * GRAIN_MASS * 1000
 
 
 # --- checks -------------------------------------------------------------------------------
@@ -347,7 +334,7 @@ def check_three_scoops_net_gain(state, result):
     n = len(scoops(result))
     if len(result.steps) != 3 or n != 3:
         return f"{n} scoop(s)"
-    mass, spilled = grams_in_receiver(state), _grams_spilled(state)
+    mass, spilled = grams_in_receiver(state), grams_spilled(state)
     return None if mass - spilled >= NET and spilled <= SPILL else \
         f"{mass:.1f} g delivered, {spilled:.1f} g spilled"
 

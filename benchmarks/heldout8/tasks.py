@@ -72,7 +72,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, grams_in_receiver,
-                                        neighbours, reachable, scoops)
+                                        grams_spilled, neighbours, reachable, scoops)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -135,19 +135,6 @@ def _walk(state, result, first: int = 1):
         cells.append(pair[0][1])
     return cells
 
-
-def _grams_spilled(state) -> float:
-    """Grams of grains outside the receiver, the donor and the spoon's tray now, counted from
-    the simulation as the scoop primitive counts them after each scoop."""
-    from vlb_gym.envs.scoop.controller import grains_in_box, grains_in_scoop
-    from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
-                                          RECEIVER_WALL)
-
-    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
-    delivered = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
-    kept = grains_in_box(positions, state.env.donor, DONOR_HALF, DONOR_WALL)
-    tray = grains_in_scoop(positions, state.data, state.scene.model.site("scoop").id)
-    return float((~(delivered | kept | tray)).sum()) * GRAIN_MASS * 1000
 
 
 # --- checks -------------------------------------------------------------------------------
@@ -353,7 +340,7 @@ def check_low_spill_per_scoop(state, result):
     n = len(scoops(result))
     if len(result.steps) != n or not 2 <= n <= 3:
         return f"{n} scoop(s) in {len(result.steps)} step(s)"
-    mass, spilled = grams_in_receiver(state), _grams_spilled(state)
+    mass, spilled = grams_in_receiver(state), grams_spilled(state)
     return None if mass >= NEEDED and spilled <= PER_SCOOP * n else \
         f"{mass:.1f} g delivered, {spilled:.1f} g spilled in {n} scoops"
 

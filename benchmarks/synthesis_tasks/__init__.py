@@ -146,6 +146,20 @@ def grams_in_receiver(state: Any) -> float:
     return float(inside.sum()) * GRAIN_MASS * 1000
 
 
+def grams_spilled(state: Any) -> float:
+    """Grams of grains outside the receiver, the donor and the spoon's tray now, counted from
+    the simulation as the scoop primitive counts them after each scoop."""
+    from vlb_gym.envs.scoop.controller import grains_in_box, grains_in_scoop
+    from vlb_gym.envs.scoop.scene import (DONOR_HALF, DONOR_WALL, GRAIN_MASS, RECEIVER_HALF,
+                                          RECEIVER_WALL)
+
+    positions = state.data.qpos[state.scene.grain_qpos[:, :3]]
+    delivered = grains_in_box(positions, state.env.receiver, RECEIVER_HALF, RECEIVER_WALL)
+    kept = grains_in_box(positions, state.env.donor, DONOR_HALF, DONOR_WALL)
+    tray = grains_in_scoop(positions, state.data, state.scene.model.site("scoop").id)
+    return float((~(delivered | kept | tray)).sum()) * GRAIN_MASS * 1000
+
+
 def at_start(state: GridState) -> str | None:
     """None if the agent ended in its start cell, else where it ended."""
     if state.cell != state.start_cell:
