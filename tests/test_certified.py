@@ -22,8 +22,8 @@ from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_cert
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
 from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program
-from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Found, Search
-from vlb_gym.abstractor.terms import contexts
+from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Found, Search, named_from_here
+from vlb_gym.abstractor.terms import Vocabulary, contexts
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.spec import Promise, spec_from_data
@@ -399,6 +399,44 @@ def test_a_direction_the_request_names_is_one_name_from_here():
         assert costs.get("beside(current_cell(), 'down')", 3) >= 3
     finally:
         search.close()
+
+
+# heldout7's up_else_right_climb (development data since its one run)
+CLIMB = Promise(expr=(
+    "primitives() == ['sense'] + ['navigate', 'sense'] * len(moves()) and sensed() == "
+    "[start_cell()] + moves() and all(moves()[k] == ((p[0], p[1] + 1) if (p[1] < 9 and not "
+    "is_obstacle((p[0], p[1] + 1))) else (p[0] + 1, p[1])) and ((p[1] < 9 and not "
+    "is_obstacle((p[0], p[1] + 1))) or (p[0] < 9 and not is_obstacle((p[0] + 1, p[1])))) for k "
+    "in [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17][:len(moves())] for p in "
+    "[sensed()[k]]) and not (final_cell()[1] < 9 and not is_obstacle((final_cell()[0], "
+    "final_cell()[1] + 1))) and not (final_cell()[0] < 9 and not is_obstacle((final_cell()[0] "
+    "+ 1, final_cell()[1])))"))
+UP_ELSE_RIGHT = ("[c for c in [beside(current_cell(), 'up'), beside(current_cell(), 'right')] "
+                 "if is_free(c)]")
+
+
+def test_directions_the_request_names_are_preferred_in_its_order():
+    """"Go up whenever you can; when not, go right": the directions the request names, those
+    the agent can move onto, in the order it names them, are one name, and a loop over them
+    ("repeat: onto the first; sense", ended when there is none) is found and runs the same
+    in the package's runtime; named the other way round, the list is the other way round."""
+    search = Search(GRID_ID, CLIMB, "Sense, then climb one cell at a time, sensing after every "
+                    "move: go up whenever the cell above you is free; when it is not, go right "
+                    "instead. Stop when you can go neither up nor right.", screen_seed=777)
+    try:
+        statements = search.statements()
+        assert {t.text: t.cost for t in statements.bank.of("list[cell]")}[UP_ELSE_RIGHT] == 1
+        found = search.find(600, max_programs=30_000)  # (a bound that does not hang on load)
+        assert found is not None and found.program.statements[1] == Loop("True", (
+            Act("navigate", f"{UP_ELSE_RIGHT}[0]"), Act("sense", "current_cell()")))
+        assert search.rescreen(search.document(found, "climb", "")) is None
+    finally:
+        search.close()
+    vocabulary = Vocabulary.of(search.interface.make_helpers(), search.space)
+    named = {text for _, text, _ in named_from_here(vocabulary, search.space,
+                                                    ["go", "right", "else", "up"])}
+    assert UP_ELSE_RIGHT.replace("'up'", "'x'").replace("'right'", "'up'").replace(
+        "'x'", "'right'") in named and UP_ELSE_RIGHT not in named
 
 
 def test_names_a_promise_binds_to_one_value_are_read_through(interface):
