@@ -357,7 +357,11 @@ def test_helpers_read_only_the_observation(grid_env):
     assert helpers.manhattan((1, 1), (4, 3)) == 5
     assert helpers.beside((1, 1), "up") == (1, 2) and helpers.beside((0, 0), "left") is None
     assert helpers.is_free((1, 2)) and not helpers.is_free((5, 5))
-    assert not helpers.is_free(None)
+    assert not helpers.is_free(None)  # outside the grid: nothing can stand there
+    assert not any(helpers.is_free(c) for c in [(-1, 4), (1, 10), (10**30, 0), (0, -10**30)])
+    for bad in ["A1", (1.0, 2), (True, 0), (1, 2, 3)]:
+        with pytest.raises(ValueError, match=r"^is_free\(\): .* not a cell"):
+            helpers.is_free(bad)
     with pytest.raises(ValueError, match="not one of"):
         helpers.beside((1, 1), "north")
     described = helpers.describe()

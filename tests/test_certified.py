@@ -22,7 +22,8 @@ from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_cert
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
 from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program
-from vlb_gym.abstractor.search import MAX_PROBES, PROBES, Found, Search, named_from_here
+from vlb_gym.abstractor.search import (MAX_ORDERS, MAX_PROBES, PROBES, Found, Search,
+                                        named_from_here, said)
 from vlb_gym.abstractor.terms import Vocabulary, contexts
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
@@ -387,6 +388,37 @@ def test_one_more_step_the_way_the_first_went_is_a_term_of_the_grid():
         search.close()
 
 
+# heldout10's step_then_turn_right (development data since its one run)
+TURN_RIGHT = Promise(expr=(
+    "primitives()[:3] == ['sense', 'navigate', 'sense'] and sensed() == [start_cell(), "
+    "moves()[0]] and moves()[0] in neighbours(start_cell()) and not is_obstacle(moves()[0]) and "
+    "len(primitives()) == 2 + len(moves()) and all(moves()[1:] == ([b] if (b in "
+    "neighbours(moves()[0]) and not is_obstacle(b)) else []) for b in [(moves()[0][0] + "
+    "moves()[0][1] - start_cell()[1], moves()[0][1] - moves()[0][0] + start_cell()[0])])"))
+TURNED = ("(path[1:][0][0] + path[1:][0][1] - home[1], path[1:][0][1] - path[1:][0][0] + "
+          "home[0])")
+
+
+def test_a_step_onto_a_cell_off_the_grid_is_one_that_cannot_be_done():
+    """"Then one more step, turned right of the first, if that cell is on the grid and free":
+    the promise's turned cell, read through what the agent knows, is a term, the step onto it
+    "if it can be done" a statement of the grammar, and where the turned cell lies off the
+    grid the guard is false (a cell off the grid is not free), so the behavior keeps the
+    promise on every screening episode, run by the package's runtime too."""
+    search = Search(GRID_ID, TURN_RIGHT, "Sense, step onto any free cell next to you and sense "
+                    "again. Then turn to your right, relative to the step you just made, and "
+                    "take one more step that way if that cell is inside the grid and free.",
+                    screen_seed=777)
+    try:
+        turn = If(f"is_free({TURNED})", (Act("navigate", TURNED),))
+        assert turn in search.statements().at(4)
+        program = Program((Act("sense", "current_cell()"), Act("navigate", "frontier_cells()[0]"),
+                           Act("sense", "current_cell()"), turn))
+        assert search.keeps(program)
+        assert search.rescreen(program.document(search.space, "turn_right", "", GRID_ID)) is None
+    finally:
+        search.close()
+
 def test_a_direction_the_request_names_is_one_name_from_here():
     """The cell beside the agent in a direction the request names costs one name, as the
     request says it; a direction it does not name costs what the helper's call costs."""
@@ -419,7 +451,7 @@ def test_directions_the_request_names_are_preferred_in_its_order():
     """"Go up whenever you can; when not, go right": the directions the request names, those
     the agent can move onto, in the order it names them, are one name, and a loop over them
     ("repeat: onto the first; sense", ended when there is none) is found and runs the same
-    in the package's runtime; named the other way round, the list is the other way round."""
+    in the package's runtime."""
     search = Search(GRID_ID, CLIMB, "Sense, then climb one cell at a time, sensing after every "
                     "move: go up whenever the cell above you is free; when it is not, go right "
                     "instead. Stop when you can go neither up nor right.", screen_seed=777)
@@ -432,11 +464,31 @@ def test_directions_the_request_names_are_preferred_in_its_order():
         assert search.rescreen(search.document(found, "climb", "")) is None
     finally:
         search.close()
-    vocabulary = Vocabulary.of(search.interface.make_helpers(), search.space)
-    named = {text for _, text, _ in named_from_here(vocabulary, search.space,
-                                                    ["go", "right", "else", "up"])}
-    assert UP_ELSE_RIGHT.replace("'up'", "'x'").replace("'right'", "'up'").replace(
-        "'x'", "'right'") in named and UP_ELSE_RIGHT not in named
+
+
+def lists_named(interface, *phrases):
+    space = interface.search_space()
+    vocabulary = Vocabulary.of(interface.make_helpers(), space)
+    return [text for kind, text, _ in named_from_here(
+        vocabulary, space, [said(p, space.synonyms) for p in phrases]) if kind == "list[cell]"]
+
+
+def test_each_phrase_gives_the_order_it_names_directions_in(interface):
+    """Directions named in a phrase give the list of those free in the phrase's order, one
+    list for each order the phrases name (at most MAX_ORDERS); the env's synonyms ("above")
+    read as the value they name; a phrase naming one direction gives no list."""
+    right_up = UP_ELSE_RIGHT.replace("'up'", "'x'").replace("'right'", "'up'").replace(
+        "'x'", "'right'")
+    assert lists_named(interface, "go right, else up") == [right_up]
+    assert lists_named(interface, "head up and right", "head up and right",
+                       "step right or else up") == [UP_ELSE_RIGHT, right_up]
+    assert lists_named(interface, "the cell above you, or else to your right") == [UP_ELSE_RIGHT]
+    assert lists_named(interface, "walk up", "then stop") == []
+    orders = ["up down left right", "down up left right", "left up down right",
+              "right up down left", "up right down left", "left right up down"]
+    assert len(lists_named(interface, *orders)) == MAX_ORDERS
+    assert said("North of the start, BELOW it", {"north": "up", "below": "down"}) == [
+        "up", "of", "the", "start", "down", "it"]
 
 
 def test_names_a_promise_binds_to_one_value_are_read_through(interface):

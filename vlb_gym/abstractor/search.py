@@ -69,30 +69,42 @@ def fresh_seed() -> int:
     return secrets.randbits(63)
 
 
-def named_from_here(vocabulary: Vocabulary, space: SearchSpace, words: list[str]
+MAX_ORDERS = 4  # lists of named values, in the orders a request names them, per helper
+
+
+def said(text: str, synonyms: dict[str, str]) -> list[str]:
+    """The words of ``text`` in order, lower case, each synonym read as the value it names."""
+    return [synonyms.get(w, w) for w in re.findall(r"[a-z]+", text.lower())]
+
+
+def named_from_here(vocabulary: Vocabulary, space: SearchSpace, phrases: list[list[str]]
                     ) -> list[tuple[str, str, int]]:
     """Fragments (kind, text, depth 0) for what the request names as seen from here: a helper
     of where the agent is and one value the request or promise names (``beside(current_cell(),
     'right')`` where "right" is named), one name to the search, as the request says it; and
-    where it names two or more, those the agent can move onto in the order ``words`` (the
-    request's, then the promise's) first names them: ``[c for c in [beside(current_cell(),
-    'up'), beside(current_cell(), 'right')] if is_free(c)]``, whose first is "up, or else
-    right"."""
+    where a phrase (the whole request and promise, then each sentence) names two or more,
+    those the agent can move onto in the order the phrase names them: ``[c for c in
+    [beside(current_cell(), 'up'), beside(current_cell(), 'right')] if is_free(c)]``, whose
+    first is "up, or else right" (at most ``MAX_ORDERS`` orders)."""
     if space.here is None:
         return []
     here_kind, here = space.here
+    words = {w for phrase in phrases for w in phrase}
     out = []
     for name, (kinds, result) in vocabulary.helpers.items():
         if len(kinds) == 2 and kinds[0] == here_kind and kinds[1].startswith("str:"):
-            named = sorted((v for v in kinds[1][4:].split("|") if v in words), key=words.index)
-            places = [f"{call_name(name)}({here}, {value!r})" for value in named]
-            out += [(result, place, 0) for place in places]
+            values = kinds[1][4:].split("|")
+            out += [(result, f"{call_name(name)}({here}, {v!r})", 0) for v in values
+                    if v in words]
             feasible = next((p.feasible for p in space.parameters
                              if p.kind == result and p.feasible), None)
-            if len(places) > 1 and feasible is not None:
-                var = BOUND[0]
-                out.append((f"list[{result}]", f"[{var} for {var} in [{', '.join(places)}] "
-                                               f"if {feasible.format(var)}]", 0))
+            orders = dict.fromkeys(tuple(dict.fromkeys(w for w in phrase if w in values))
+                                   for phrase in phrases)
+            var = BOUND[0]
+            for order in [o for o in orders if len(o) > 1 and feasible][:MAX_ORDERS]:
+                places = ", ".join(f"{call_name(name)}({here}, {v!r})" for v in order)
+                out.append((f"list[{result}]",
+                            f"[{var} for {var} in [{places}] if {feasible.format(var)}]", 0))
     return out
 
 
@@ -213,16 +225,16 @@ class Search:
             for kind in [*space.types, *(f"list[{k}]" for k in space.types)]:
                 if conforms(value, kind, space.types):
                     vocabulary.constants.append((kind, repr(value)))
-        said = re.findall(r"[a-z]+", self.request.lower()) + re.findall(
-            r"[a-z]+", self.promise.expr.lower())  # (in order: see named_from_here)
-        words = set(said)
+        phrases = [said(self.request + " " + self.promise.expr, space.synonyms)] + [
+            said(sentence, space.synonyms) for sentence in re.split(r"[.;:!?]", self.request)]
+        words = set(phrases[0])
         cheap = {text for _, text in vocabulary.constants if text.strip("'") in words}
         cheap |= {call_name(n) for n in vocabulary.helpers  # named in the request's words
                   if any(len(w) >= 4 and w in words for w in call_name(n).split("_"))}
         cheap |= {call_name(n) for n, (kinds, _) in vocabulary.helpers.items()  # or one of the
                   if any(k.startswith("str:") and words & set(k[4:].split("|"))  # values it
                          for k in kinds)}  # takes ("right": the cell beside, in a direction)
-        vocabulary.fragments += named_from_here(vocabulary, space, said)
+        vocabulary.fragments += named_from_here(vocabulary, space, phrases)
         outcome = set(interface.make_judge().functions())
         binders = tuple(k for k in space.types)[:1] * 2
         decision = {call_name(n) for n in vocabulary.helpers}

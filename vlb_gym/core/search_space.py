@@ -24,6 +24,8 @@ and holds no table of its own about any env. An env that can be synthesized for 
 * ``common``: the decision helpers behaviors of the env use most (a prior: they cost less);
 * ``here``: the kind and expression of where the agent is now (``("cell",
   "current_cell()")``), what ``TARGET`` is when read now;
+* ``synonyms``: other words a request may use for a value of a helper's closed set of strings
+  (``{"above": "up"}``), read as that value;
 * ``screening``: episodes a candidate runs before it may be certified (fewer where an episode
   costs seconds of simulation); ``max_steps``: primitives a searched behavior may run in an
   episode (a candidate that runs longer is not pursued; certification uses the env's own
@@ -87,6 +89,7 @@ class SearchSpace:
     beliefs: dict[str, str] = field(default_factory=dict)
     common: tuple[str, ...] = ()
     here: tuple[str, str] | None = None
+    synonyms: dict[str, str] = field(default_factory=dict)
     screening: int = 30
     max_steps: int | None = None
     context_steps: int = 6 * 48

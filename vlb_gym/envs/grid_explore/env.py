@@ -157,7 +157,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                      "reachable_goals": "[k for k in explored() if label(k) == 'goal']",
                      "explored_all": "len(frontier_cells()) == 0"},
             common=("current_cell", "explored", "frontier_cells", "goal_found", "label"),
-            here=("cell", "current_cell()"), max_steps=4 * self.size * self.size // 3)
+            here=("cell", "current_cell()"),
+            synonyms={"above": "up", "below": "down", "north": "up", "south": "down",
+                      "east": "right", "west": "left"}, max_steps=4 * self.size * self.size // 3)
 
     def save(self) -> tuple[GridState, dict[str, Any]]:
         """A copy of what primitives change (labels, position, what was found, the trail so

@@ -169,9 +169,10 @@ class GridHelpers(Helpers):
 
     @helper
     def is_free(self, cell: Cell | None) -> bool:
-        """Whether ``cell`` is known to be free: labelled 'empty' or 'goal' (None, outside the
-        grid, is not)."""
-        if cell is None:
+        """Whether ``cell`` is known to be free: labelled 'empty' or 'goal' (a cell outside the
+        grid, or None, is not: nothing can stand there)."""
+        if cell is None or (isinstance(cell, (tuple, list)) and len(cell) == 2 and all(
+                _integer(v) for v in cell) and not all(0 <= v < self.size for v in cell)):
             return False
         return self._labels[self._index(cell, "is_free")] in _FREE
 
