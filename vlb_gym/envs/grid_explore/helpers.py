@@ -171,8 +171,13 @@ class GridHelpers(Helpers):
     def is_free(self, cell: Cell | None) -> bool:
         """Whether ``cell`` is known to be free: labelled 'empty' or 'goal' (a cell outside the
         grid, or None, is not: nothing can stand there)."""
+        size = self.size
+        if type(cell) is tuple and len(cell) == 2:  # the hot call: a pair of ints
+            i, j = cell
+            if type(i) is int and type(j) is int:
+                return 0 <= i < size and 0 <= j < size and self._labels[i * size + j] in _FREE
         if cell is None or (isinstance(cell, (tuple, list)) and len(cell) == 2 and all(
-                _integer(v) for v in cell) and not all(0 <= v < self.size for v in cell)):
+                _integer(v) for v in cell) and not all(0 <= v < size for v in cell)):
             return False
         return self._labels[self._index(cell, "is_free")] in _FREE
 
