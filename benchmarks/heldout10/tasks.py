@@ -83,8 +83,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense,
-                                        grams_in_receiver, grams_spilled, neighbours, scoops)
+from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, first_goal_sense,
+                                        free_cell, free_neighbours, grams_in_receiver,
+                                        grams_spilled, same_steps, scoops, sensed_cells, step_by,
+                                        steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -92,45 +94,12 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _inside(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size
-
-
-def _free(state, c) -> bool:
-    return _inside(state, c) and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
-
-
-def _distance(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
-
-
-def _shown(state, c) -> list[tuple[int, int]]:
-    """The cells a sense at ``c`` labels: ``c`` and the cells next to it."""
-    return [c, *neighbours(state, c)]
-
-
 def _label(state, known, step) -> int:
     """Mark what a sense step labels in ``known``; return how many cells it labelled that no
     earlier sense had (0 for a move)."""
     if step[0] != "sense":
         return 0
-    fresh = [n for n in _shown(state, step[1]) if not known[n]]
+    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
     for n in fresh:
         known[n] = True
     return len(fresh)
@@ -140,8 +109,8 @@ def _walk_plan(state, here, way):
     """From ``here``, the (move, sense) steps of a walk ``way`` while the next cell is inside the
     grid and free, and the cell it ends in."""
     plan = []
-    while _free(state, _plus(here, way)):
-        here = _plus(here, way)
+    while free_cell(state, step_by(here, way)):
+        here = step_by(here, way)
         plan += [("navigate", here), ("sense", here)]
     return plan, here
 
@@ -151,7 +120,7 @@ def _peek(state, steps):
     None (with why) when the steps do not begin so."""
     home = state.start_cell
     if len(steps) < 3 or steps[0] != ("sense", home) or steps[1][0] != "navigate" \
-            or steps[1][1] not in _free_beside(state, home) or steps[2] != ("sense", steps[1][1]):
+            or steps[1][1] not in free_neighbours(state, home) or steps[2] != ("sense", steps[1][1]):
         return None, f"ran {steps[:4]}, not a sense, a move onto a free cell next to the " \
                      "start and a sense there"
     return steps[1][1], None
@@ -163,8 +132,8 @@ def _peek(state, steps):
 def check_toward_diagonal(state, result):
     """One sense; then one move onto a free cell next to the start with a smaller |i - j| than
     the start's if there is one (none on the diagonal), else nothing more."""
-    home, steps = state.start_cell, _steps(result)
-    targets = [n for n in _free_beside(state, home)
+    home, steps = state.start_cell, steps_of(result)
+    targets = [n for n in free_neighbours(state, home)
                if abs(n[0] - n[1]) < abs(home[0] - home[1])]
     if steps[:1] == [("sense", home)] and (
             (not targets and len(steps) == 1)
@@ -177,48 +146,48 @@ def check_toward_diagonal(state, result):
 def check_open_spot_or_back(state, result):
     """Sense, a move onto a free cell next to the start, a sense there; then a move back onto
     the start unless that cell has two or more free cells next to it besides the start."""
-    steps = _steps(result)
+    steps = steps_of(result)
     spot, why = _peek(state, steps)
     if spot is None:
         return why
-    others = [n for n in _free_beside(state, spot) if n != state.start_cell]
+    others = [n for n in free_neighbours(state, spot) if n != state.start_cell]
     rest = [] if len(others) >= 2 else [("navigate", state.start_cell)]
-    return _same(steps[3:], rest)
+    return same_steps(steps[3:], rest)
 
 
 def check_step_then_turn_right(state, result):
     """Sense, a move onto a free cell next to the start, a sense there; then a move onto the
     cell to the right of that move's heading ((di, dj) turned to (dj, -di)) if it is inside the
     grid and free."""
-    steps = _steps(result)
+    steps = steps_of(result)
     spot, why = _peek(state, steps)
     if spot is None:
         return why
     di, dj = spot[0] - state.start_cell[0], spot[1] - state.start_cell[1]
-    turn = _plus(spot, (dj, -di))
-    return _same(steps[3:], [("navigate", turn)] if _free(state, turn) else [])
+    turn = step_by(spot, (dj, -di))
+    return same_steps(steps[3:], [("navigate", turn)] if free_cell(state, turn) else [])
 
 
 def check_right_walk_then_first_goal(state, result):
     """Sense; right while free, each move followed by a sense; then, if some sense of the walk
     showed a goal, a move onto one of the goals the first such sense showed (nothing if the
     agent stands on one); if none did, a move onto the start if the walk moved."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     walk, end = _walk_plan(state, home, RIGHT)
     plan = [("sense", home)] + walk
     if steps[:len(plan)] != plan:
-        return _same(steps, plan)
+        return same_steps(steps, plan)
     rest = steps[len(plan):]
     first = []
     for kind, c in plan:
         if kind == "sense":
-            first = [n for n in _shown(state, c) if state.truth[n] == GOAL]
+            first = [n for n in sensed_cells(state, c) if state.truth[n] == GOAL]
             if first:
                 break
     if not first:
-        return _same(rest, [("navigate", home)] if end != home else [])
+        return same_steps(rest, [("navigate", home)] if end != home else [])
     if end in first:
-        return _same(rest, [])
+        return same_steps(rest, [])
     if len(rest) == 1 and rest[0][0] == "navigate" and rest[0][1] in first:
         return None
     return f"after the walk ran {rest[:4]}, not one move onto one of {first}"
@@ -228,17 +197,17 @@ def check_back_in_start_row(state, result):
     """Exploring stops with the first move that ends in the start's row after an earlier move
     ended outside it, or with the sense after which nothing more is to be found, whichever
     comes first."""
-    steps, row = _steps(result), state.start_cell[1]
+    steps, row = steps_of(result), state.start_cell[1]
     known = state.truth != state.truth
     out = False
     for index, step in enumerate(steps):
         _label(state, known, step)
         if step[0] == "navigate":
             if step[1][1] == row and out:
-                return _same(steps[index + 1:], [])
+                return same_steps(steps[index + 1:], [])
             out = out or step[1][1] != row
         elif exhausted(state, known):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return "never back in the start's row after leaving it, and more could be found"
 
 
@@ -246,17 +215,17 @@ def check_nearer_of_start_and_first_step(state, result):
     """After the sense that first shows a goal: nothing if no move came before it; else one
     move onto the start or the first move's cell, whichever is nearer to a goal that sense
     showed (the start on a tie), or nothing if the agent stands on that cell."""
-    steps, home = _steps(result), state.start_cell
+    steps, home = steps_of(result), state.start_cell
     index = first_goal_sense(state, result)
     if index is None:
         return "no goal seen"
     here, rest = steps[index][1], steps[index + 1:]
     earlier = [c for kind, c in steps[:index] if kind == "navigate"]
     if not earlier:
-        return _same(rest, [])
+        return same_steps(rest, [])
     first = earlier[0]
-    picks = {home if _distance(home, g) <= _distance(first, g) else first
-             for g in _shown(state, here) if state.truth[g] == GOAL}
+    picks = {home if distance(home, g) <= distance(first, g) else first
+             for g in sensed_cells(state, here) if state.truth[g] == GOAL}
     if (rest == [] and here in picks) or (len(rest) == 1 and rest[0][0] == "navigate"
                                           and rest[0][1] in picks and here not in picks):
         return None
@@ -268,18 +237,18 @@ def check_up_until_second_opening(state, result):
     second cell moved onto whose right neighbour is inside the grid and free."""
     here = state.start_cell
     plan, openings = [("sense", here)], 0
-    while _free(state, _plus(here, UP)) and openings < 2:
-        here = _plus(here, UP)
+    while free_cell(state, step_by(here, UP)) and openings < 2:
+        here = step_by(here, UP)
         plan += [("navigate", here), ("sense", here)]
-        openings += _free(state, _plus(here, RIGHT))
-    return _same(_steps(result), plan)
+        openings += free_cell(state, step_by(here, RIGHT))
+    return same_steps(steps_of(result), plan)
 
 
 def check_back_to_second_look(state, result):
     """Exploring stops with the fifth sense, or with the sense after which nothing more is to
     be found, whichever comes first; then one move onto the cell of the second sense, or
     nothing if the agent stands on it."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     looks: list[tuple[int, int]] = []
     for index, step in enumerate(steps):
@@ -291,7 +260,7 @@ def check_back_to_second_look(state, result):
             if len(looks) < 2:
                 return "stopped exploring before a second sense"
             want = [] if step[1] == looks[1] else [("navigate", looks[1])]
-            return _same(steps[index + 1:], want)
+            return same_steps(steps[index + 1:], want)
     return "fewer than five senses, and more could be found"
 
 
@@ -299,7 +268,7 @@ def check_halfway_cell(state, result):
     """After the sense that first shows a goal: one move onto a known free cell whose
     |distance to the start - distance to a goal that sense showed| is the least among the
     known free cells, or nothing if the agent stands on such a cell."""
-    steps, home = _steps(result), state.start_cell
+    steps, home = steps_of(result), state.start_cell
     index = first_goal_sense(state, result)
     if index is None:
         return "no goal seen"
@@ -308,8 +277,8 @@ def check_halfway_cell(state, result):
         _label(state, known, step)
     here, rest = steps[index][1], steps[index + 1:]
     spots = [cell(c) for c in zip(*(known & (state.truth != OBSTACLE)).nonzero())]
-    for goal in (g for g in _shown(state, here) if state.truth[g] == GOAL):
-        gap = {c: abs(_distance(c, home) - _distance(c, goal)) for c in spots}
+    for goal in (g for g in sensed_cells(state, here) if state.truth[g] == GOAL):
+        gap = {c: abs(distance(c, home) - distance(c, goal)) for c in spots}
         best = min(gap.values())
         if gap[here] == best:
             if rest == []:
@@ -327,7 +296,7 @@ def check_three_turn_walk(state, result):
     for way in (UP, RIGHT, DOWN, LEFT):
         walk, here = _walk_plan(state, here, way)
         plan += walk
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_down_left_retrace(state, result):
@@ -339,7 +308,7 @@ def check_down_left_retrace(state, result):
     out = down + left
     stood = [home] + [c for kind, c in out if kind == "navigate"]
     plan = [("sense", home)] + out + [("navigate", c) for c in reversed(stood[:-1])]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_hug_home_walk(state, result):
@@ -349,15 +318,15 @@ def check_hug_home_walk(state, result):
     here = state.start_cell
     plan, stood = [("sense", here)], [here]
     while len(stood) < 9:
-        fresh = [(_distance(c, state.start_cell), t, c) for t, c in
-                 enumerate((_plus(here, UP), _plus(here, RIGHT), _plus(here, DOWN),
-                            _plus(here, LEFT))) if _free(state, c) and c not in stood]
+        fresh = [(distance(c, state.start_cell), t, c) for t, c in
+                 enumerate((step_by(here, UP), step_by(here, RIGHT), step_by(here, DOWN),
+                            step_by(here, LEFT))) if free_cell(state, c) and c not in stood]
         if not fresh:
             break
         here = min(fresh)[2]
         stood.append(here)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 FEE, NET = 15, 30  # grams charged for every scoop; grams that must be left after the charges

@@ -90,52 +90,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense,
-                                        grams_in_receiver, grams_spilled, neighbours, reachable,
-                                        scoops)
-from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
+from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, first_goal_sense,
+                                        free_cell, free_neighbours, grams_in_receiver,
+                                        grams_spilled, obstacles_beside, on_grid, reachable,
+                                        same_steps, scoops, sensed_cells, step_by, steps_of)
+from vlb_gym.envs.grid_explore.types import GOAL
 
 REFERENCES = Path(__file__).resolve().parent / "references"
 SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
-
-
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _inside(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size
-
-
-def _free(state, c) -> bool:
-    return _inside(state, c) and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
-
-
-def _crowd(state, c) -> int:
-    """How many obstacles are next to ``c`` (the grid's edge does not count)."""
-    return sum(state.truth[n] == OBSTACLE for n in neighbours(state, c))
-
-
-def _distance(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
-
-
-def _shown(state, c) -> list[tuple[int, int]]:
-    """The cells a sense at ``c`` labels: ``c`` and the cells next to it."""
-    return [c, *neighbours(state, c)]
 
 
 def _label(state, known, step) -> int:
@@ -143,7 +106,7 @@ def _label(state, known, step) -> int:
     earlier sense had (0 for a move)."""
     if step[0] != "sense":
         return 0
-    fresh = [n for n in _shown(state, step[1]) if not known[n]]
+    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
     for n in fresh:
         known[n] = True
     return len(fresh)
@@ -152,12 +115,12 @@ def _label(state, known, step) -> int:
 def _goal_seen(state, result):
     """The index of the sense that first showed a goal, the cell it was taken in, the goals it
     showed and the steps after it; None (with why) when no sense showed one."""
-    steps = _steps(result)
+    steps = steps_of(result)
     index = first_goal_sense(state, result)
     if index is None:
         return None, "no goal seen"
     here = steps[index][1]
-    goals = [g for g in _shown(state, here) if state.truth[g] == GOAL]
+    goals = [g for g in sensed_cells(state, here) if state.truth[g] == GOAL]
     return (index, here, goals, steps[index + 1:]), None
 
 
@@ -166,7 +129,7 @@ def _peek(state, steps):
     None (with why) when the steps do not begin so."""
     home = state.start_cell
     if len(steps) < 3 or steps[0] != ("sense", home) or steps[1][0] != "navigate" \
-            or steps[1][1] not in _free_beside(state, home) or steps[2] != ("sense", steps[1][1]):
+            or steps[1][1] not in free_neighbours(state, home) or steps[2] != ("sense", steps[1][1]):
         return None, f"ran {steps[:4]}, not a sense, a move onto a free cell next to the " \
                      "start and a sense there"
     return steps[1][1], None
@@ -178,10 +141,10 @@ def check_obstacle_count_direction(state, result):
     """One sense; then one move up, right, down or left for 0, 1, 2 or 3 obstacles next to the
     start, if that cell is inside the grid and free, else nothing more."""
     home = state.start_cell
-    way = (UP, RIGHT, DOWN, LEFT)[min(3, _crowd(state, home))]
-    target = _plus(home, way)
-    plan = [("sense", home)] + ([("navigate", target)] if _free(state, target) else [])
-    return _same(_steps(result), plan)
+    way = (UP, RIGHT, DOWN, LEFT)[min(3, obstacles_beside(state, home))]
+    target = step_by(home, way)
+    plan = [("sense", home)] + ([("navigate", target)] if free_cell(state, target) else [])
+    return same_steps(steps_of(result), plan)
 
 
 def check_up_over_and_down(state, result):
@@ -190,28 +153,28 @@ def check_up_over_and_down(state, result):
     home = state.start_cell
     plan, here = [("sense", home)], home
     for way in (UP, RIGHT, DOWN):
-        nxt = _plus(here, way)
-        if not _free(state, nxt):
+        nxt = step_by(here, way)
+        if not free_cell(state, nxt):
             if here != home:
                 plan.append(("navigate", home))
             break
         here = nxt
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_seen_first_only(state, result):
     """Sense, a move onto a free cell next to the start, a sense there; then one move onto
     another free cell next to the start (what the first sense showed and the second did not),
     or onto the start if there is none."""
-    steps = _steps(result)
+    steps = steps_of(result)
     spot, why = _peek(state, steps)
     if spot is None:
         return why
-    others = [n for n in _free_beside(state, state.start_cell) if n != spot]
+    others = [n for n in free_neighbours(state, state.start_cell) if n != spot]
     rest = steps[3:]
     if not others:
-        return _same(rest, [("navigate", state.start_cell)])
+        return same_steps(rest, [("navigate", state.start_cell)])
     if len(rest) == 1 and rest[0][0] == "navigate" and rest[0][1] in others:
         return None
     return f"after the two senses ran {rest[:4]}, not one move onto one of {others}"
@@ -226,11 +189,11 @@ def check_route_skip_blocked(state, result):
     here = state.start_cell
     plan = [("sense", here)]
     for way in ROUTE:
-        nxt = _plus(here, way)
-        if _free(state, nxt):
+        nxt = step_by(here, way)
+        if free_cell(state, nxt):
             here = nxt
             plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_goal_above_or_home(state, result):
@@ -244,9 +207,9 @@ def check_goal_above_or_home(state, result):
     home = state.start_cell
     above = [g for g in goals if g[1] > home[1]]
     if not above:
-        return _same(rest, [] if here == home else [("navigate", home)])
+        return same_steps(rest, [] if here == home else [("navigate", home)])
     if here in above:
-        return _same(rest, [])
+        return same_steps(rest, [])
     if len(rest) == 1 and rest[0][0] == "navigate" and rest[0][1] in above:
         return None
     return f"after the goal came into view ran {rest[:4]}, not one move onto one of {above}"
@@ -259,24 +222,24 @@ def check_lookback_three(state, result):
     if seen is None:
         return why
     index, here, _, rest = seen
-    stood = [state.start_cell] + [c for kind, c in _steps(result)[:index] if kind == "navigate"]
+    stood = [state.start_cell] + [c for kind, c in steps_of(result)[:index] if kind == "navigate"]
     target = stood[max(0, len(stood) - 4)]
-    return _same(rest, [] if here == target else [("navigate", target)])
+    return same_steps(rest, [] if here == target else [("navigate", target)])
 
 
 def check_home_like_spot(state, result):
     """Exploring stops with the first sense away from the start whose cell has as many
     obstacles next to it as the start has, or with the sense after which nothing more is to be
     found, whichever comes first."""
-    steps, home = _steps(result), state.start_cell
-    count = _crowd(state, home)
+    steps, home = steps_of(result), state.start_cell
+    count = obstacles_beside(state, home)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
         _label(state, known, step)
         if step[0] != "sense":
             continue
-        if (step[1] != home and _crowd(state, step[1]) == count) or exhausted(state, known):
-            return _same(steps[index + 1:], [])
+        if (step[1] != home and obstacles_beside(state, step[1]) == count) or exhausted(state, known):
+            return same_steps(steps[index + 1:], [])
     return "no sense away from the start matched it, and more could be found"
 
 
@@ -294,7 +257,7 @@ def check_two_more_looks_then_goal(state, result):
         return f"after the goal came into view ran {rest[:4]}, not two (move, sense) pairs"
     last, tail = rest[3][1], rest[4:]
     if last in goals:
-        return _same(tail, [])
+        return same_steps(tail, [])
     if len(tail) == 1 and tail[0][0] == "navigate" and tail[0][1] in goals:
         return None
     return f"after the two looks ran {tail[:4]}, not one move onto one of {goals}"
@@ -314,8 +277,8 @@ def check_home_then_point(state, result):
         return f"after the goal came into view ran {rest[:4]}, not a move onto the start first"
     tail = rest[len(back):]
     for goal in goals:
-        toward = [n for n in _free_beside(state, home)
-                  if _distance(n, goal) < _distance(home, goal)]
+        toward = [n for n in free_neighbours(state, home)
+                  if distance(n, goal) < distance(home, goal)]
         if (not toward and tail == []) or (len(tail) == 1 and tail[0][0] == "navigate"
                                            and tail[0][1] in toward):
             return None
@@ -329,14 +292,14 @@ def check_side_peek_walk(state, result):
     here = state.start_cell
     plan = [("sense", here)]
     while True:
-        side = _plus(here, LEFT)
-        if _free(state, side):
+        side = step_by(here, LEFT)
+        if free_cell(state, side):
             plan += [("navigate", side), ("sense", side), ("navigate", here)]
-        if not _free(state, _plus(here, UP)):
+        if not free_cell(state, step_by(here, UP)):
             break
-        here = _plus(here, UP)
+        here = step_by(here, UP)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_right_around_obstacles(state, result):
@@ -347,34 +310,34 @@ def check_right_around_obstacles(state, result):
     here = state.start_cell
     plan, mode = [("sense", here)], "row"  # "row", "up" (just stepped up), "over" (moved right)
     while True:
-        right, up, down = _plus(here, RIGHT), _plus(here, UP), _plus(here, DOWN)
+        right, up, down = step_by(here, RIGHT), step_by(here, UP), step_by(here, DOWN)
         if mode == "row":
-            if _free(state, right):
+            if free_cell(state, right):
                 nxt = right
-            elif _inside(state, right) and _free(state, up):
+            elif on_grid(state, right) and free_cell(state, up):
                 nxt, mode = up, "up"
             else:
                 break
         elif mode == "up":
-            if not _free(state, right):
+            if not free_cell(state, right):
                 break
             nxt, mode = right, "over"
-        elif _free(state, down):
+        elif free_cell(state, down):
             nxt, mode = down, "row"
-        elif _free(state, right):
+        elif free_cell(state, right):
             nxt = right
         else:
             break
         here = nxt
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_goal_shuttle(state, result):
     """Nothing more to find at the end; after the last sense only moves: four alternating
     between two different reachable goals, the first not the cell of the last sense, if there
     are two or more; else one onto the goal, or nothing if the agent stands on it."""
-    steps = _steps(result)
+    steps = steps_of(result)
     if not exhausted(state):
         return "stopped before everything was known"
     senses = [k for k, (kind, _) in enumerate(steps) if kind == "sense"]
@@ -383,7 +346,7 @@ def check_goal_shuttle(state, result):
     here, rest = steps[senses[-1]][1], steps[senses[-1] + 1:]
     goals = [cell(c) for c in zip(*(reachable(state) & (state.truth == GOAL)).nonzero())]
     if len(goals) == 1:
-        return _same(rest, [] if here == goals[0] else [("navigate", goals[0])])
+        return same_steps(rest, [] if here == goals[0] else [("navigate", goals[0])])
     if len(rest) == 4 and all(kind == "navigate" for kind, _ in rest):
         a, b = rest[0][1], rest[1][1]
         if a != b and a in goals and b in goals and a != here \

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, grams_in_receiver,
-                                        known_after, moves, neighbours, reachable, scoops)
+from benchmarks.synthesis_tasks import (Task, cell, exhausted, free_cell, grams_in_receiver,
+                                        known_after, moves, neighbours, reachable, same_steps,
+                                        scoops, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -29,25 +30,13 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _free(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
 def _walk(state, start, directions, stop=lambda here: False):
     """Sense at ``start``, then one move per direction drawn from ``directions`` (an iterator)
     while the next cell is free and ``stop(here)`` is false, sensing after every move."""
     here, plan = start, [("sense", start)]
     for step in directions:
-        nxt = _plus(here, step)
-        if stop(here) or not _free(state, nxt):
+        nxt = step_by(here, step)
+        if stop(here) or not free_cell(state, nxt):
             break
         plan += [("navigate", nxt), ("sense", nxt)]
         here = nxt
@@ -59,10 +48,6 @@ def _forever(*steps):
         yield from steps
 
 
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
-
-
 # --- checks -------------------------------------------------------------------------------
 
 def check_right_then_home(state, result):
@@ -70,14 +55,14 @@ def check_right_then_home(state, result):
     move if it moved at all."""
     home = state.start_cell
     plan, end = _walk(state, home, _forever(RIGHT))
-    return _same(_steps(result), plan + ([("navigate", home)] if end != home else []))
+    return same_steps(steps_of(result), plan + ([("navigate", home)] if end != home else []))
 
 
 def check_up_then_right(state, result):
     """Sense; step up while free, then right while free, sensing after every step."""
     plan, corner = _walk(state, state.start_cell, _forever(UP))
     more, _ = _walk(state, corner, _forever(RIGHT))
-    return _same(_steps(result), plan + more[1:])
+    return same_steps(steps_of(result), plan + more[1:])
 
 
 def check_left_or_right(state, result):
@@ -85,15 +70,15 @@ def check_left_or_right(state, result):
     home = state.start_cell
     want = [("sense", home)]
     for step in (LEFT, RIGHT):
-        if _free(state, _plus(home, step)):
-            want.append(("navigate", _plus(home, step)))
+        if free_cell(state, step_by(home, step)):
+            want.append(("navigate", step_by(home, step)))
             break
-    return _same(_steps(result), want)
+    return same_steps(steps_of(result), want)
 
 
 def check_retrace_to_start(state, result):
     """A move onto a goal; after it, only moves: the earlier moves in reverse, then the start."""
-    steps, targets = _steps(result), moves(result)
+    steps, targets = steps_of(result), moves(result)
     onto = [k for k, c in enumerate(targets) if state.truth[c] == GOAL]
     if not onto:
         return "never moved onto a goal"
@@ -109,7 +94,7 @@ def check_retrace_to_start(state, result):
 
 
 def _touches(state, c) -> bool:
-    return _free(state, c) and any(state.truth[n] == OBSTACLE for n in neighbours(state, c))
+    return free_cell(state, c) and any(state.truth[n] == OBSTACLE for n in neighbours(state, c))
 
 
 def check_touching_obstacle(state, result):
@@ -127,24 +112,24 @@ def check_zigzag_right_up(state, result):
     """Sense; right, up, right, up, ... while the next cell of the pattern is free, sensing
     after every move."""
     plan, _ = _walk(state, state.start_cell, _forever(RIGHT, UP))
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_down_until_goal_or_blocked(state, result):
     """Sense; step down while not on a goal and the cell below is free, sensing after each."""
     plan, _ = _walk(state, state.start_cell, _forever(DOWN),
                     stop=lambda here: state.truth[here] == GOAL)
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_most_unknown_neighbour(state, result):
     """Sense; onto a free neighbour with the most cells around it still unknown after that
     sense (any of the tied), sense there; no move if no neighbour is free."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     known = known_after(state, result.steps[:1])
-    free = [n for n in neighbours(state, home) if _free(state, n)]
+    free = [n for n in neighbours(state, home) if free_cell(state, n)]
     if not free:
-        return _same(steps, [("sense", home)])
+        return same_steps(steps, [("sense", home)])
     score = {n: sum(not known[m] for m in neighbours(state, n)) for n in free}
     best = max(score.values())
     if len(steps) == 3 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
@@ -162,7 +147,7 @@ def check_first_goal_after_all(state, result):
     showed."""
     if not exhausted(state):
         return "stopped before everything was known"
-    senses = [c for kind, c in _steps(result) if kind == "sense"]
+    senses = [c for kind, c in steps_of(result) if kind == "sense"]
     first = next((_revealed(state, c) for c in senses if _revealed(state, c)), [])
     return None if state.cell in first else f"ended in {state.cell}; the first goals: {first}"
 
@@ -173,14 +158,14 @@ def check_right_then_same_up(state, result):
     plan, corner = _walk(state, state.start_cell, _forever(RIGHT))
     k = len(plan) // 2
     more, _ = _walk(state, corner, iter([UP] * k))
-    return _same(_steps(result), plan + more[1:])
+    return same_steps(steps_of(result), plan + more[1:])
 
 
 def check_second_goal_or_home(state, result):
     """The sense after which two goals are known is the last; one move follows it, onto a goal
     that sense showed first. If two goals are never known, everything is known and it ends at
     the start."""
-    steps = _steps(result)
+    steps = steps_of(result)
     senses = [k for k, (kind, _) in enumerate(steps) if kind == "sense"]
     seen: list[tuple[int, int]] = []
     for number, k in enumerate(senses):
@@ -199,11 +184,11 @@ def check_smallest_neighbour_and_back(state, result):
     """Sense; onto the free neighbour with the smallest (i, j), sense, back to the start, sense;
     only the first sense if no neighbour is free."""
     home = state.start_cell
-    free = sorted(n for n in neighbours(state, home) if _free(state, n))
+    free = sorted(n for n in neighbours(state, home) if free_cell(state, n))
     want = [("sense", home)]
     if free:
         want += [("navigate", free[0]), ("sense", free[0]), ("navigate", home), ("sense", home)]
-    return _same(_steps(result), want)
+    return same_steps(steps_of(result), want)
 
 
 def check_four_scoops(state, result):

@@ -33,28 +33,14 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, first_reaching,
-                                        grams_in_receiver, moves, neighbours, reachable, scoops)
+                                        free_cell, free_neighbours, grams_in_receiver, moves,
+                                        neighbours, reachable, same_steps, scoops, step_by,
+                                        steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
 SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP = (1, 0), (-1, 0), (0, 1)
-
-
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _free(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
 
 
 def _obstacles_beside(state, c) -> int:
@@ -74,14 +60,10 @@ def _walk(state, start, step):
     """Sense at ``start``, then one move by ``step`` while the next cell is free, sensing after
     every move; the plan and the cell it ends in."""
     here, plan = start, [("sense", start)]
-    while _free(state, _plus(here, step)):
-        here = _plus(here, step)
+    while free_cell(state, step_by(here, step)):
+        here = step_by(here, step)
         plan += [("navigate", here), ("sense", here)]
     return plan, here
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
 
 
 def _centre(c) -> int:
@@ -95,19 +77,19 @@ def _centre(c) -> int:
 def check_crowded_stay_else_step(state, result):
     """One sense; no move if obstacles are next to the start on two or more sides, else one
     move onto a free cell next to the start."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if _obstacles_beside(state, home) >= 2:
-        return _same(steps, [("sense", home)])
+        return same_steps(steps, [("sense", home)])
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
-            and steps[1][1] in _free_beside(state, home):
+            and steps[1][1] in free_neighbours(state, home):
         return None
     return f"ran {steps[:4]}; {_obstacles_beside(state, home)} obstacle(s) next to the start"
 
 
 def check_centre_neighbour(state, result):
     """One sense, then one move onto a free cell next to the start nearest the centre."""
-    home, steps = state.start_cell, _steps(result)
-    free = _free_beside(state, home)
+    home, steps = state.start_cell, steps_of(result)
+    free = free_neighbours(state, home)
     best = min(_centre(n) for n in free)
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
             and steps[1][1] in free and _centre(steps[1][1]) == best:
@@ -118,7 +100,7 @@ def check_centre_neighbour(state, result):
 def check_four_fresh_cells(state, result):
     """Sense; then moves, each onto a cell not stood in before and followed by a sense there:
     four, or fewer only if nothing more can be found."""
-    home, steps, targets = state.start_cell, _steps(result), moves(result)
+    home, steps, targets = state.start_cell, steps_of(result), moves(result)
     if steps != [("sense", home)] + [x for c in targets for x in (("navigate", c), ("sense", c))]:
         return f"ran {steps[:10]}: not a sense first and after every move"
     if len(targets) > 4 or any(c in [home, *targets[:k]] for k, c in enumerate(targets)):
@@ -131,11 +113,11 @@ def check_four_fresh_cells(state, result):
 def check_peek_again_if_no_goal(state, result):
     """One sense; if it showed a goal, nothing more; else a move onto a free cell next to the
     start and a sense there."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if _revealed(state, home):
-        return _same(steps, [("sense", home)])
+        return same_steps(steps, [("sense", home)])
     if len(steps) == 3 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
-            and steps[1][1] in _free_beside(state, home) and steps[2] == ("sense", steps[1][1]):
+            and steps[1][1] in free_neighbours(state, home) and steps[2] == ("sense", steps[1][1]):
         return None
     return f"ran {steps[:4]}; no goal in sight of the start"
 
@@ -145,7 +127,7 @@ def check_sweep_row(state, result):
     every move."""
     plan, end = _walk(state, state.start_cell, RIGHT)
     more, _ = _walk(state, end, LEFT)
-    return _same(_steps(result), plan + more[1:])
+    return same_steps(steps_of(result), plan + more[1:])
 
 
 def check_up_until_three_obstacles(state, result):
@@ -155,37 +137,37 @@ def check_up_until_three_obstacles(state, result):
     plan, known = [("sense", here)], set()
     while True:
         known |= {c for c in [here, *neighbours(state, here)] if state.truth[c] == OBSTACLE}
-        if len(known) >= 3 or not _free(state, _plus(here, UP)):
+        if len(known) >= 3 or not free_cell(state, step_by(here, UP)):
             break
-        here = _plus(here, UP)
+        here = step_by(here, UP)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_goal_then_first_step(state, result):
     """Once a goal is revealed: a move onto a goal, then a move back to the first cell moved to
     (none if the move onto the goal was the first)."""
-    steps, found = _steps(result), first_goal_sense(state, result)
+    steps, found = steps_of(result), first_goal_sense(state, result)
     if found is None:
         return "no goal was found"
     before = [c for kind, c in steps[:found] if kind == "navigate"]
     rest = steps[found + 1:]
     if not rest or rest[0][0] != "navigate" or state.truth[rest[0][1]] != GOAL:
         return f"after finding a goal it ran {rest[:3]}"
-    return _same(rest, [rest[0]] + [("navigate", c) for c in before[:1]])
+    return same_steps(rest, [rest[0]] + [("navigate", c) for c in before[:1]])
 
 
 def check_goal_then_right_walk(state, result):
     """Once a goal is revealed: a move onto a goal, a sense there, then right while free,
     sensing after every move."""
-    steps, found = _steps(result), first_goal_sense(state, result)
+    steps, found = steps_of(result), first_goal_sense(state, result)
     if found is None:
         return "no goal was found"
     rest = steps[found + 1:]
     if not rest or rest[0][0] != "navigate" or state.truth[rest[0][1]] != GOAL:
         return f"after finding a goal it ran {rest[:3]}"
     plan, _ = _walk(state, rest[0][1], RIGHT)
-    return _same(rest, [rest[0]] + plan)
+    return same_steps(rest, [rest[0]] + plan)
 
 
 def check_lone_goal_or_home(state, result):
@@ -200,8 +182,8 @@ def check_lone_goal_or_home(state, result):
 def check_calmest_neighbour(state, result):
     """A sense at the start first; a sense at every free cell next to the start; ends on one of
     those with the fewest obstacles next to it."""
-    home, steps = state.start_cell, _steps(result)
-    free = _free_beside(state, home)
+    home, steps = state.start_cell, steps_of(result)
+    free = free_neighbours(state, home)
     count = {n: _obstacles_beside(state, n) for n in free}
     if not steps or steps[0] != ("sense", home):
         return f"ran {steps[:2]}, not a sense at the start first"
@@ -220,7 +202,7 @@ def check_explore_then_goal_tour(state, result):
     index = first_reaching(state, result, lambda known: exhausted(state, known))
     if index is None:
         return "stopped before everything was known"
-    rest = _steps(result)[index + 1:]
+    rest = steps_of(result)[index + 1:]
     targets = [c for _, c in rest]
     if not rest or any(kind != "navigate" for kind, _ in rest) or targets[-1] != home \
             or sorted(targets[:-1]) != _goals(state):
@@ -233,7 +215,7 @@ def check_most_obstacles_spot(state, result):
     most of all the cells it sensed from."""
     if not exhausted(state):
         return "stopped before everything was known"
-    spots = [c for kind, c in _steps(result) if kind == "sense"]
+    spots = [c for kind, c in steps_of(result) if kind == "sense"]
     most = max(_obstacles_beside(state, c) for c in spots)
     if state.cell in spots and _obstacles_beside(state, state.cell) == most:
         return None

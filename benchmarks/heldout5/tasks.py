@@ -36,30 +36,15 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, first_reaching,
-                                        grams_in_receiver, grams_spilled, moves, neighbours,
-                                        reachable, scoops)
+from benchmarks.synthesis_tasks import (Task, distance, exhausted, first_goal_sense, first_reaching,
+                                        free_cell, free_neighbours, grams_in_receiver,
+                                        grams_spilled, moves, neighbours, reachable, same_steps,
+                                        scoops, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
 SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
-
-
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _free(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
 
 
 def _revealed(state, c) -> list[tuple[int, int]]:
@@ -71,23 +56,15 @@ def _walk(state, start, step, stop=lambda here: False):
     """Sense at ``start``, then one move by ``step`` while ``stop(here)`` is false and the next
     cell is free, sensing after every move; the plan and the cell it ends in."""
     here, plan = start, [("sense", start)]
-    while not stop(here) and _free(state, _plus(here, step)):
-        here = _plus(here, step)
+    while not stop(here) and free_cell(state, step_by(here, step)):
+        here = step_by(here, step)
         plan += [("navigate", here), ("sense", here)]
     return plan, here
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
 
 
 def _side_wall(state, c) -> bool:
     """Whether an obstacle lies directly left or right of ``c`` (inside the grid)."""
     return any(state.truth[n] == OBSTACLE for n in neighbours(state, c) if n[1] == c[1])
-
-
-def _distance(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
 
 
 def _goal_step(state, rest) -> str | None:
@@ -104,31 +81,31 @@ def _goal_step(state, rest) -> str | None:
 def check_shy_of_obstacle_above(state, result):
     """One sense; a move onto the cell below the start if the cell above is an obstacle and the
     one below is free, else no move."""
-    home, steps = state.start_cell, _steps(result)
-    above, below = _plus(home, UP), _plus(home, DOWN)
+    home, steps = state.start_cell, steps_of(result)
+    above, below = step_by(home, UP), step_by(home, DOWN)
     blocked = above[1] < state.size and state.truth[above] == OBSTACLE
-    if blocked and _free(state, below):
-        return _same(steps, [("sense", home), ("navigate", below)])
-    return _same(steps, [("sense", home)])
+    if blocked and free_cell(state, below):
+        return same_steps(steps, [("sense", home), ("navigate", below)])
+    return same_steps(steps, [("sense", home)])
 
 
 def check_left_if_row_open(state, result):
     """One sense; a move onto the cell left of the start if the cells left and right of it are
     both free, else no move."""
-    home, steps = state.start_cell, _steps(result)
-    left, right = _plus(home, LEFT), _plus(home, RIGHT)
-    if _free(state, left) and _free(state, right):
-        return _same(steps, [("sense", home), ("navigate", left)])
-    return _same(steps, [("sense", home)])
+    home, steps = state.start_cell, steps_of(result)
+    left, right = step_by(home, LEFT), step_by(home, RIGHT)
+    if free_cell(state, left) and free_cell(state, right):
+        return same_steps(steps, [("sense", home), ("navigate", left)])
+    return same_steps(steps, [("sense", home)])
 
 
 def check_left_to_sighted_goal(state, result):
     """Sense; left while no goal is in sight and the next cell is free, sensing after every
     move; then, if a goal is in sight, one move onto one of those goals."""
     plan, here = _walk(state, state.start_cell, LEFT, lambda c: bool(_revealed(state, c)))
-    steps = _steps(result)
+    steps = steps_of(result)
     if not _revealed(state, here):
-        return _same(steps, plan)
+        return same_steps(steps, plan)
     if steps[:-1] == plan and steps[-1][0] == "navigate" and steps[-1][1] in _revealed(state, here):
         return None
     return f"ran {steps[-6:]}; the goals in sight at {here}: {_revealed(state, here)}"
@@ -139,14 +116,14 @@ def check_toward_far_side(state, result):
     every move."""
     home = state.start_cell
     plan, _ = _walk(state, home, RIGHT if home[0] <= 4 else LEFT)
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_down_until_side_wall(state, result):
     """Sense; down while no obstacle is directly left or right and the cell below is free,
     sensing after every move."""
     plan, _ = _walk(state, state.start_cell, DOWN, lambda c: _side_wall(state, c))
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_down_and_halfway_back(state, result):
@@ -154,15 +131,15 @@ def check_down_and_halfway_back(state, result):
     plan, here = _walk(state, state.start_cell, DOWN)
     down = state.start_cell[1] - here[1]
     for _ in range(down // 2):
-        here = _plus(here, UP)
+        here = step_by(here, UP)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_five_move_search_home(state, result):
     """Sense; moves, each followed by a sense where it ended, until a sense shows a goal for the
     first time or five moves are made; then at most one move, onto the start, ending there."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     back = 1 if steps and steps[-1][0] == "navigate" else 0
     body, targets = steps[:len(steps) - back], moves(result)[:len(moves(result)) - back]
     if body != [("sense", home)] + [x for c in targets for x in (("navigate", c), ("sense", c))]:
@@ -186,13 +163,13 @@ def check_goal_and_four_obstacles(state, result):
     index = first_reaching(state, result, enough)
     if index is None:
         return "neither a goal and four obstacles known nor everything explored"
-    return _same(_steps(result)[index + 1:], [])
+    return same_steps(steps_of(result)[index + 1:], [])
 
 
 def check_goal_then_farthest_look(state, result):
     """Once a goal is in sight: a move onto a goal, then a move onto a cell sensed from with the
     greatest |di| + |dj| from that goal; nothing else."""
-    steps, found = _steps(result), first_goal_sense(state, result)
+    steps, found = steps_of(result), first_goal_sense(state, result)
     if found is None:
         return "no goal was found"
     rest = steps[found + 1:]
@@ -200,9 +177,9 @@ def check_goal_then_farthest_look(state, result):
     if wrong:
         return wrong
     goal, spots = rest[0][1], [c for kind, c in steps[:found + 1] if kind == "sense"]
-    far = max(_distance(goal, c) for c in spots)
+    far = max(distance(goal, c) for c in spots)
     if len(rest) == 2 and rest[1][0] == "navigate" and rest[1][1] in spots \
-            and _distance(goal, rest[1][1]) == far:
+            and distance(goal, rest[1][1]) == far:
         return None
     return f"after the goal {goal} it ran {rest[1:4]}; sensed from {spots}"
 
@@ -221,7 +198,7 @@ def check_lowest_reachable_cell(state, result):
 def check_goal_base_explore_rest(state, result):
     """Once a goal is in sight: a move onto a goal; then nothing more to find, and ends on that
     goal."""
-    steps, found = _steps(result), first_goal_sense(state, result)
+    steps, found = steps_of(result), first_goal_sense(state, result)
     if found is None:
         return "no goal was found"
     rest = steps[found + 1:]
@@ -236,7 +213,7 @@ def check_goal_base_explore_rest(state, result):
 def check_goal_then_fresh_neighbour(state, result):
     """Once a goal is in sight: a move onto a goal and a sense there; then a move onto a free
     cell next to it never stood in, if there is one, else nothing."""
-    steps, found = _steps(result), first_goal_sense(state, result)
+    steps, found = steps_of(result), first_goal_sense(state, result)
     if found is None:
         return "no goal was found"
     rest = steps[found + 1:]
@@ -245,11 +222,11 @@ def check_goal_then_fresh_neighbour(state, result):
         return wrong
     goal = rest[0][1]
     stood = [state.start_cell] + [c for kind, c in steps[:found] if kind == "navigate"]
-    fresh = [n for n in _free_beside(state, goal) if n not in stood]
+    fresh = [n for n in free_neighbours(state, goal) if n not in stood]
     if rest[1:2] != [("sense", goal)]:
         return f"after moving onto the goal it ran {rest[1:3]}"
     if not fresh:
-        return _same(rest, rest[:2])
+        return same_steps(rest, rest[:2])
     if len(rest) == 3 and rest[2][0] == "navigate" and rest[2][1] in fresh:
         return None
     return f"after the goal {goal} it ran {rest[2:4]}; the fresh cells next to it: {fresh}"

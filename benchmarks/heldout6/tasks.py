@@ -40,30 +40,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, first_reaching,
-                                        grams_in_receiver, grams_spilled, moves, neighbours,
-                                        scoops)
+from benchmarks.synthesis_tasks import (Task, distance, exhausted, first_goal_sense, first_reaching,
+                                        free_cell, free_neighbours, grams_in_receiver,
+                                        grams_spilled, moves, neighbours, same_steps, scoops,
+                                        step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
 SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
-
-
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _free(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
 
 
 def _obstacles_beside(state, c) -> list[tuple[int, int]]:
@@ -75,21 +60,13 @@ def _clear(state, c) -> bool:
     return not any(state.truth[x] == OBSTACLE for x in [c, *neighbours(state, c)])
 
 
-def _distance(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
-
-
 def _sensing_line(state, result) -> str | None:
     """None if the episode is a sense at the start, then moves each followed by a sense where it
     ended."""
-    steps = _steps(result)
+    steps = steps_of(result)
     want = [("sense", state.start_cell)] + [x for c in moves(result)
                                             for x in (("navigate", c), ("sense", c))]
-    return _same(steps, want)
+    return same_steps(steps, want)
 
 
 def _sense(state, known, step) -> None:
@@ -104,10 +81,10 @@ def _sense(state, known, step) -> None:
 def check_step_away_from_obstacle(state, result):
     """One sense; then one move: onto a free cell across the start from an obstacle next to it
     if there is one, else onto any free cell next to the start."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     away = [(2 * home[0] - o[0], 2 * home[1] - o[1]) for o in _obstacles_beside(state, home)]
-    away = [c for c in away if _free(state, c)]
-    targets = away or _free_beside(state, home)
+    away = [c for c in away if free_cell(state, c)]
+    targets = away or free_neighbours(state, home)
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
             and steps[1][1] in targets:
         return None
@@ -117,9 +94,9 @@ def check_step_away_from_obstacle(state, result):
 def check_roomier_axis_step(state, result):
     """One sense; a move onto a free cell left or right of the start if at least as many of
     those two are free as of the two above and below, else onto a free one above or below."""
-    home, steps = state.start_cell, _steps(result)
-    row = [n for n in _free_beside(state, home) if n[1] == home[1]]
-    column = [n for n in _free_beside(state, home) if n[0] == home[0]]
+    home, steps = state.start_cell, steps_of(result)
+    row = [n for n in free_neighbours(state, home) if n[1] == home[1]]
+    column = [n for n in free_neighbours(state, home) if n[0] == home[0]]
     side = row if len(row) >= len(column) else column
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
             and steps[1][1] in side:
@@ -131,22 +108,22 @@ def check_up_peek_retreat(state, result):
     """One sense; if the cell above the start is inside the grid and free, a move onto it and a
     sense there, then a move back onto the start if the cell above that is outside the grid or
     an obstacle; else nothing after the first sense."""
-    home, steps = state.start_cell, _steps(result)
-    up = _plus(home, UP)
-    if not _free(state, up):
-        return _same(steps, [("sense", home)])
+    home, steps = state.start_cell, steps_of(result)
+    up = step_by(home, UP)
+    if not free_cell(state, up):
+        return same_steps(steps, [("sense", home)])
     want = [("sense", home), ("navigate", up), ("sense", up)]
-    if not _free(state, _plus(up, UP)):
+    if not free_cell(state, step_by(up, UP)):
         want.append(("navigate", home))
-    return _same(steps, want)
+    return same_steps(steps, want)
 
 
 def check_ordered_neighbour_tour(state, result):
     """One sense; then one move onto each free cell next to the start, in the order right, up,
     left, down; nothing else."""
     home = state.start_cell
-    tour = [c for c in (_plus(home, step) for step in (RIGHT, UP, LEFT, DOWN)) if _free(state, c)]
-    return _same(_steps(result), [("sense", home)] + [("navigate", c) for c in tour])
+    tour = [c for c in (step_by(home, step) for step in (RIGHT, UP, LEFT, DOWN)) if free_cell(state, c)]
+    return same_steps(steps_of(result), [("sense", home)] + [("navigate", c) for c in tour])
 
 
 def check_little_square(state, result):
@@ -154,17 +131,17 @@ def check_little_square(state, result):
     the next cell of that pattern is inside the grid and free."""
     here, plan = state.start_cell, [("sense", state.start_cell)]
     for step in (RIGHT, UP, LEFT, DOWN):
-        if not _free(state, _plus(here, step)):
+        if not free_cell(state, step_by(here, step)):
             break
-        here = _plus(here, step)
+        here = step_by(here, step)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_three_clear_looks(state, result):
     """Exploring stops with the third sense that showed no obstacle, or with the sense after
     which nothing more is to be found, whichever comes first."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth  # nothing known before the first step
     clear = 0
     for index, step in enumerate(steps):
@@ -173,7 +150,7 @@ def check_three_clear_looks(state, result):
             continue
         clear += _clear(state, step[1])
         if clear == 3 or exhausted(state, known):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return f"{clear} sense(s) showed no obstacle and more could be found"
 
 
@@ -188,19 +165,19 @@ def check_two_obstacles_in_start_column(state, result):
     index = first_reaching(state, result, enough)
     if index is None:
         return "neither two obstacles known in the start's column nor everything explored"
-    return _same(_steps(result)[index + 1:], [])
+    return same_steps(steps_of(result)[index + 1:], [])
 
 
 def check_quick_find_or_home(state, result):
     """Once a goal is in sight: one move, onto a goal if at most four moves came before that
     sense, else onto the start; nothing else."""
-    steps, found = _steps(result), first_goal_sense(state, result)
+    steps, found = steps_of(result), first_goal_sense(state, result)
     if found is None:
         return "no goal was found"
     before = sum(kind == "navigate" for kind, _ in steps[:found])
     rest = steps[found + 1:]
     if before > 4:
-        return _same(rest, [("navigate", state.start_cell)])
+        return same_steps(rest, [("navigate", state.start_cell)])
     if len(rest) == 1 and rest[0][0] == "navigate" and state.truth[rest[0][1]] == GOAL:
         return None
     return f"found a goal after {before} move(s), then ran {rest[:3]}"
@@ -216,10 +193,10 @@ def check_climb_away_from_start(state, result):
     stood = [home, *moves(result)]
     for before, after in zip(stood, stood[1:]):
         if after not in neighbours(state, before) or \
-                _distance(after, home) != _distance(before, home) + 1:
+                distance(after, home) != distance(before, home) + 1:
             return f"moved from {before} to {after}, not one step farther from {home}"
     here = stood[-1]
-    farther = [n for n in _free_beside(state, here) if _distance(n, home) > _distance(here, home)]
+    farther = [n for n in free_neighbours(state, here) if distance(n, home) > distance(here, home)]
     return f"stopped in {here} beside {farther}, farther from the start" if farther else None
 
 
@@ -227,7 +204,7 @@ def check_hub_search(state, result):
     """A sense at the start; then rounds of a move onto a cell other than the start, a sense
     there and a move back onto the start, until a sense has shown a goal; nothing after it (and
     the move home that follows it)."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if steps[:1] != [("sense", home)] or (len(steps) - 1) % 3:
         return f"ran {steps[:7]}: not a sense at the start and rounds of three"
     for k in range(1, len(steps), 3):
@@ -246,7 +223,7 @@ def check_first_crowded_look(state, result):
     more obstacles next to it, or on the start if there is none."""
     if not exhausted(state):
         return "stopped before everything was known"
-    spots = [c for kind, c in _steps(result) if kind == "sense"]
+    spots = [c for kind, c in steps_of(result) if kind == "sense"]
     crowded = [c for c in spots
                if c != state.start_cell and len(_obstacles_beside(state, c)) >= 2]
     want = (crowded + [state.start_cell])[0]
@@ -256,7 +233,7 @@ def check_first_crowded_look(state, result):
 def check_four_rows_visited(state, result):
     """Exploring stops with the move after which the cells stood in cover four rows, or with the
     sense after which nothing more is to be found, whichever comes first."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     rows = {state.start_cell[1]}
     for index, step in enumerate(steps):
@@ -264,7 +241,7 @@ def check_four_rows_visited(state, result):
         if step[0] == "navigate":
             rows.add(step[1][1])
         if len(rows) >= 4 or (step[0] == "sense" and exhausted(state, known)):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return f"stood in rows {sorted(rows)} and more could be found"
 
 

@@ -64,42 +64,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, grams_in_receiver, grams_spilled,
-                                        moves, neighbours, reachable, scoops)
+from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, free_cell, free_neighbours,
+                                        grams_in_receiver, grams_spilled, moves, neighbours,
+                                        obstacles_beside, reachable, same_steps, scoops,
+                                        sensed_cells, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED
 
 REFERENCES = Path(__file__).resolve().parent / "references"
 SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
-
-
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _free(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
-
-
-def _crowd(state, c) -> int:
-    """How many obstacles are next to ``c`` (the grid's edge does not count)."""
-    return sum(state.truth[n] == OBSTACLE for n in neighbours(state, c))
-
-
-def _distance(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
 
 
 def _sense(state, known, step) -> None:
@@ -108,21 +81,16 @@ def _sense(state, known, step) -> None:
             known[n] = True
 
 
-def _shown(state, c) -> list[tuple[int, int]]:
-    """The cells a sense at ``c`` labels: ``c`` and the cells next to it."""
-    return [c, *neighbours(state, c)]
-
-
 
 # --- checks -------------------------------------------------------------------------------
 
 def check_goal_or_row_step(state, result):
     """One sense; one move: onto a goal next to the start if there is one, else onto a free
     cell left or right of it if there is one, else onto a free cell above or below it."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     goals = [n for n in neighbours(state, home) if state.truth[n] == GOAL]
-    row = [n for n in _free_beside(state, home) if n[1] == home[1]]
-    targets = goals or row or _free_beside(state, home)
+    row = [n for n in free_neighbours(state, home) if n[1] == home[1]]
+    targets = goals or row or free_neighbours(state, home)
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
             and steps[1][1] in targets:
         return None
@@ -136,9 +104,9 @@ def _inner(state, c) -> bool:
 def check_inward_step(state, result):
     """One sense; one move onto a free cell next to the start that is off the grid's border,
     or onto any free cell next to it if none is."""
-    home, steps = state.start_cell, _steps(result)
-    inner = [n for n in _free_beside(state, home) if _inner(state, n)]
-    targets = inner or _free_beside(state, home)
+    home, steps = state.start_cell, steps_of(result)
+    inner = [n for n in free_neighbours(state, home) if _inner(state, n)]
+    targets = inner or free_neighbours(state, home)
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
             and steps[1][1] in targets:
         return None
@@ -148,56 +116,56 @@ def check_inward_step(state, result):
 def check_straight_two_steps(state, result):
     """Sense; a move onto a free cell next to the start and a sense there; then, if the next
     cell the same way is inside the grid and free, a move onto it and a sense there."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if len(steps) < 3 or steps[0] != ("sense", home) or steps[1][0] != "navigate" \
-            or steps[1][1] not in _free_beside(state, home) or steps[2] != ("sense", steps[1][1]):
+            or steps[1][1] not in free_neighbours(state, home) or steps[2] != ("sense", steps[1][1]):
         return f"ran {steps[:4]}: not a sense, a step onto a free neighbour and a sense there"
     a = steps[1][1]
     b = (2 * a[0] - home[0], 2 * a[1] - home[1])
-    return _same(steps[3:], [("navigate", b), ("sense", b)] if _free(state, b) else [])
+    return same_steps(steps[3:], [("navigate", b), ("sense", b)] if free_cell(state, b) else [])
 
 
 def check_compare_two_looks(state, result):
     """Sense; a move onto a free cell next to the start and a sense there; then a move back
     onto the start if that cell has more obstacles next to it than the start has."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if len(steps) < 3 or steps[0] != ("sense", home) or steps[1][0] != "navigate" \
-            or steps[1][1] not in _free_beside(state, home) or steps[2] != ("sense", steps[1][1]):
+            or steps[1][1] not in free_neighbours(state, home) or steps[2] != ("sense", steps[1][1]):
         return f"ran {steps[:4]}: not a sense, a step onto a free neighbour and a sense there"
     a = steps[1][1]
-    back = _crowd(state, a) > _crowd(state, home)
-    return _same(steps[3:], [("navigate", home)] if back else [])
+    back = obstacles_beside(state, a) > obstacles_beside(state, home)
+    return same_steps(steps[3:], [("navigate", home)] if back else [])
 
 
 def check_five_out_then_home(state, result):
     """Exploring; the first move ending 5 or more steps from the start is followed by one move
     onto the start and nothing else; if the sense after which nothing more is to be found
     comes first, it is followed by one move onto the start (or by nothing, at the start)."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
         _sense(state, known, step)
         rest = steps[index + 1:]
-        if step[0] == "navigate" and _distance(step[1], home) >= 5:
-            return _same(rest, [("navigate", home)])
+        if step[0] == "navigate" and distance(step[1], home) >= 5:
+            return same_steps(rest, [("navigate", home)])
         if step[0] == "sense" and exhausted(state, known):
             if rest == [] and state.cell == home:
                 return None
-            return _same(rest, [("navigate", home)])
+            return same_steps(rest, [("navigate", home)])
     return "never 5 steps from the start, and more could be found"
 
 
 def _far_goals(state, c) -> list[tuple[int, int]]:
     """The goals a sense at ``c`` shows that are 4 or more steps from the start."""
-    return [x for x in _shown(state, c)
-            if state.truth[x] == GOAL and _distance(x, state.start_cell) >= 4]
+    return [x for x in sensed_cells(state, c)
+            if state.truth[x] == GOAL and distance(x, state.start_cell) >= 4]
 
 
 def check_distant_goal(state, result):
     """Exploring; the first sense that shows a goal 4 or more steps from the start is followed
     by one move onto such a goal it showed and nothing else; if the sense after which nothing
     more is to be found comes first, nothing follows it."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
         _sense(state, known, step)
@@ -209,7 +177,7 @@ def check_distant_goal(state, result):
                 return None
             return f"saw far goal(s) {far} at step {index + 1}, then ran {rest[:3]}"
         if exhausted(state, known):
-            return _same(rest, [])
+            return same_steps(rest, [])
     return "no far goal seen, and more could be found"
 
 
@@ -217,16 +185,16 @@ def check_twelve_steps_travelled(state, result):
     """Exploring stops with the move after which the moves' lengths (steps along rows and
     columns from where each began to where it ended) add up to 12 or more, or with the sense
     after which nothing more is to be found, whichever comes first."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     here, travelled = state.start_cell, 0
     for index, step in enumerate(steps):
         _sense(state, known, step)
         if step[0] == "navigate":
-            travelled += _distance(here, step[1])
+            travelled += distance(here, step[1])
             here = step[1]
         if travelled >= 12 or (step[0] == "sense" and exhausted(state, known)):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return f"travelled {travelled} steps and more could be found"
 
 
@@ -236,14 +204,14 @@ def check_up_else_right_climb(state, result):
     sense."""
     here, plan = state.start_cell, [("sense", state.start_cell)]
     while True:
-        if _free(state, _plus(here, UP)):
-            here = _plus(here, UP)
-        elif _free(state, _plus(here, RIGHT)):
-            here = _plus(here, RIGHT)
+        if free_cell(state, step_by(here, UP)):
+            here = step_by(here, UP)
+        elif free_cell(state, step_by(here, RIGHT)):
+            here = step_by(here, RIGHT)
         else:
             break
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def _in_square(state, c) -> bool:
@@ -275,10 +243,10 @@ def check_right_hand_rule(state, result):
     for _ in range(8):
         turns = [(heading[1], -heading[0]), heading, (-heading[1], heading[0]),
                  (-heading[0], -heading[1])]
-        heading = next(d for d in turns if _free(state, _plus(here, d)))
-        here = _plus(here, heading)
+        heading = next(d for d in turns if free_cell(state, step_by(here, d)))
+        here = step_by(here, heading)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_least_hemmed_goal(state, result):
@@ -287,31 +255,31 @@ def check_least_hemmed_goal(state, result):
     if not exhausted(state):
         return "stopped before everything was known"
     goals = [cell(c) for c in zip(*(reachable(state) & (state.truth == GOAL)).nonzero())]
-    fewest = min(_crowd(state, g) for g in goals)
-    if state.truth[state.cell] == GOAL and _crowd(state, state.cell) == fewest:
+    fewest = min(obstacles_beside(state, g) for g in goals)
+    if state.truth[state.cell] == GOAL and obstacles_beside(state, state.cell) == fewest:
         return None
     return f"ended in {state.cell}; the goals and their obstacles: " \
-           f"{[(g, _crowd(state, g)) for g in goals]}"
+           f"{[(g, obstacles_beside(state, g)) for g in goals]}"
 
 
 def check_no_backtrack_search(state, result):
     """Sense; then, while no sense has shown a goal, a move onto a free cell next to the agent
     never stood in and a sense there; after the first sense that shows a goal, one move onto
     a goal it showed; if no such cell is left before, one move onto the start."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if steps[:1] != [("sense", home)]:
         return f"ran {steps[:2]}, not a sense at the start first"
     stood, index = [home], 1
     while True:
         here, rest = stood[-1], steps[index:]
-        goals = [x for x in _shown(state, here) if state.truth[x] == GOAL]
+        goals = [x for x in sensed_cells(state, here) if state.truth[x] == GOAL]
         if goals:
             if len(rest) == 1 and rest[0][0] == "navigate" and rest[0][1] in goals:
                 return None
             return f"saw goal(s) {goals} from {here}, then ran {rest[:3]}"
-        fresh = [n for n in _free_beside(state, here) if n not in stood]
+        fresh = [n for n in free_neighbours(state, here) if n not in stood]
         if not fresh:
-            return _same(rest, [("navigate", home)])
+            return same_steps(rest, [("navigate", home)])
         if len(rest) < 2 or rest[0][0] != "navigate" or rest[0][1] not in fresh \
                 or rest[1] != ("sense", rest[0][1]):
             return f"from {here} ran {rest[:2]}, not a step onto one of {fresh} and a sense"

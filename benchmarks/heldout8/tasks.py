@@ -71,8 +71,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, grams_in_receiver,
-                                        grams_spilled, neighbours, reachable, scoops)
+from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, first_goal_sense,
+                                        free_cell, free_neighbours, grams_in_receiver,
+                                        grams_spilled, neighbours, on_grid, reachable, same_steps,
+                                        scoops, sensed_cells, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -80,45 +82,12 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _inside(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size
-
-
-def _free(state, c) -> bool:
-    return _inside(state, c) and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
-
-
-def _distance(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
-
-
-def _shown(state, c) -> list[tuple[int, int]]:
-    """The cells a sense at ``c`` labels: ``c`` and the cells next to it."""
-    return [c, *neighbours(state, c)]
-
-
 def _label(state, known, step) -> int:
     """Mark what a sense step labels in ``known``; return how many cells it labelled that no
     earlier sense had (0 for a move)."""
     if step[0] != "sense":
         return 0
-    fresh = [n for n in _shown(state, step[1]) if not known[n]]
+    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
     for n in fresh:
         known[n] = True
     return len(fresh)
@@ -127,7 +96,7 @@ def _label(state, known, step) -> int:
 def _walk(state, result, first: int = 1):
     """The steps after the first ``first`` ones, read as (move, sense there) pairs: the list of
     cells moved to, or a reason why the steps are not such pairs."""
-    steps, cells = _steps(result)[first:], []
+    steps, cells = steps_of(result)[first:], []
     for k in range(0, len(steps), 2):
         pair = steps[k:k + 2]
         if len(pair) != 2 or pair[0][0] != "navigate" or pair[1] != ("sense", pair[0][1]):
@@ -142,26 +111,26 @@ def _walk(state, result, first: int = 1):
 def check_mirror_step(state, result):
     """One sense; a move onto a free cell next to the start; then a move onto the cell on the
     other side of the start from it if that is inside the grid and free, else onto the start."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if len(steps) != 3 or steps[0] != ("sense", home) or steps[1][0] != "navigate" \
-            or steps[1][1] not in _free_beside(state, home) or steps[2][0] != "navigate":
+            or steps[1][1] not in free_neighbours(state, home) or steps[2][0] != "navigate":
         return f"ran {steps[:4]}: not a sense, a step onto a free neighbour and a move"
     a = steps[1][1]
     b = (2 * home[0] - a[0], 2 * home[1] - a[1])
-    want = b if _free(state, b) else home
+    want = b if free_cell(state, b) else home
     return None if steps[2][1] == want else f"went to {steps[2][1]} after {a}, not {want}"
 
 
 def check_corridor_step(state, result):
     """One sense; one move: up if the cells above and below the start are both free, else
     right if the cells left and right of it are both free, else onto any free neighbour."""
-    home, steps = state.start_cell, _steps(result)
-    if _free(state, _plus(home, UP)) and _free(state, _plus(home, DOWN)):
-        targets = [_plus(home, UP)]
-    elif _free(state, _plus(home, LEFT)) and _free(state, _plus(home, RIGHT)):
-        targets = [_plus(home, RIGHT)]
+    home, steps = state.start_cell, steps_of(result)
+    if free_cell(state, step_by(home, UP)) and free_cell(state, step_by(home, DOWN)):
+        targets = [step_by(home, UP)]
+    elif free_cell(state, step_by(home, LEFT)) and free_cell(state, step_by(home, RIGHT)):
+        targets = [step_by(home, RIGHT)]
     else:
-        targets = _free_beside(state, home)
+        targets = free_neighbours(state, home)
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
             and steps[1][1] in targets:
         return None
@@ -171,7 +140,7 @@ def check_corridor_step(state, result):
 def check_wander_until_nothing_new(state, result):
     """Sense; then moves, each onto a free cell next to the agent and followed by a sense
     there; it stops right after the first sense that labels no cell an earlier sense had not."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if steps[:1] != [("sense", home)]:
         return f"ran {steps[:2]}, not a sense at the start first"
     known = state.truth != state.truth
@@ -180,11 +149,11 @@ def check_wander_until_nothing_new(state, result):
     while True:
         rest = steps[index:]
         if len(rest) < 2 or rest[0][0] != "navigate" or rest[0][1] not in \
-                _free_beside(state, here) or rest[1] != ("sense", rest[0][1]):
+                free_neighbours(state, here) or rest[1] != ("sense", rest[0][1]):
             return f"from {here} ran {rest[:2]}, not a step onto a free neighbour and a sense"
         here, index = rest[0][1], index + 2
         if not _label(state, known, rest[1]):
-            return _same(steps[index:], [])
+            return same_steps(steps[index:], [])
 
 
 def _touching(state, known) -> bool:
@@ -198,12 +167,12 @@ def _touching(state, known) -> bool:
 def check_two_touching_obstacles(state, result):
     """Exploring stops with the sense after which two known obstacles are next to each other,
     or with the sense after which nothing more is to be found, whichever comes first."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
         _label(state, known, step)
         if step[0] == "sense" and (_touching(state, known) or exhausted(state, known)):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return "no two touching obstacles known, and more could be found"
 
 
@@ -211,30 +180,30 @@ def check_down_then_edge_left(state, result):
     """Sense; down while the cell below is free, each move followed by a sense; then, only if
     that ended in the bottom row, left while the cell to the left is free, sensing likewise."""
     here, plan = state.start_cell, [("sense", state.start_cell)]
-    while _free(state, _plus(here, DOWN)):
-        here = _plus(here, DOWN)
+    while free_cell(state, step_by(here, DOWN)):
+        here = step_by(here, DOWN)
         plan += [("navigate", here), ("sense", here)]
-    while here[1] == 0 and _free(state, _plus(here, LEFT)):
-        here = _plus(here, LEFT)
+    while here[1] == 0 and free_cell(state, step_by(here, LEFT)):
+        here = step_by(here, LEFT)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_free_count_straight_walk(state, result):
     """Sense; n = the free cells next to the start; a move onto one of them, then straight on
     the same way while the next cell is free, n moves at most, each followed by a sense."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     if steps[:1] != [("sense", home)]:
         return f"ran {steps[:2]}, not a sense at the start first"
     cells = _walk(state, result)
     if isinstance(cells, str):
         return cells
-    if not cells or cells[0] not in _free_beside(state, home):
+    if not cells or cells[0] not in free_neighbours(state, home):
         return f"moved to {cells[:2]}, not first onto a free cell next to the start"
-    n, step = len(_free_beside(state, home)), (cells[0][0] - home[0], cells[0][1] - home[1])
+    n, step = len(free_neighbours(state, home)), (cells[0][0] - home[0], cells[0][1] - home[1])
     here, want = cells[0], [cells[0]]
-    while len(want) < n and _free(state, _plus(here, step)):
-        here = _plus(here, step)
+    while len(want) < n and free_cell(state, step_by(here, step)):
+        here = step_by(here, step)
         want.append(here)
     return None if cells == want else f"moved to {cells}, not {want} ({n} free around the start)"
 
@@ -242,11 +211,11 @@ def check_free_count_straight_walk(state, result):
 def check_goal_chain(state, result):
     """After the first sense that shows a goal: a move onto a goal it showed and a sense
     there; then one move onto another goal that sense showed, if it showed one; nothing else."""
-    steps, found = _steps(result), first_goal_sense(state, result)
+    steps, found = steps_of(result), first_goal_sense(state, result)
     if found is None:
         return "no goal was seen"
     rest = steps[found + 1:]
-    shown = [x for x in _shown(state, steps[found][1]) if state.truth[x] == GOAL]
+    shown = [x for x in sensed_cells(state, steps[found][1]) if state.truth[x] == GOAL]
     if len(rest) < 2 or rest[0][0] != "navigate" or rest[0][1] not in shown \
             or rest[1] != ("sense", rest[0][1]):
         return f"saw goal(s) {shown}, then ran {rest[:3]}"
@@ -256,7 +225,7 @@ def check_goal_chain(state, result):
         if len(rest) == 3 and rest[2][0] == "navigate" and rest[2][1] in more:
             return None
         return f"from the goal {first} saw goal(s) {more}, then ran {rest[2:5]}"
-    return _same(rest[2:], [])
+    return same_steps(rest[2:], [])
 
 
 def check_row_to_junction(state, result):
@@ -264,32 +233,32 @@ def check_row_to_junction(state, result):
     the right of the start is not free), each move followed by a sense, up to and including
     the first cell moved to that has three or more free cells next to it."""
     here, plan = state.start_cell, [("sense", state.start_cell)]
-    way = RIGHT if _free(state, _plus(here, RIGHT)) else LEFT
-    while _free(state, _plus(here, way)):
-        here = _plus(here, way)
+    way = RIGHT if free_cell(state, step_by(here, RIGHT)) else LEFT
+    while free_cell(state, step_by(here, way)):
+        here = step_by(here, way)
         plan += [("navigate", here), ("sense", here)]
-        if len(_free_beside(state, here)) >= 3:
+        if len(free_neighbours(state, here)) >= 3:
             break
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_efficient_explore(state, result):
     """Every sense labels a cell no earlier sense had; the last step is the sense after which
     nothing more is to be found."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
         if step[0] == "sense" and not _label(state, known, step):
             return f"the sense at step {index + 1} ({step[1]}) showed nothing new"
         if step[0] == "sense" and exhausted(state, known):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return "more could be found"
 
 
 def _clearance(state, c) -> int:
     """Steps along rows and columns from ``c`` to its nearest obstacle (obstacles ignored)."""
     obstacles = list(zip(*(state.truth == OBSTACLE).nonzero()))
-    return min((_distance(c, o) for o in obstacles), default=0)
+    return min((distance(c, o) for o in obstacles), default=0)
 
 
 def check_clearest_cell(state, result):
@@ -307,7 +276,7 @@ def _line_cells(state) -> list[tuple[int, int]]:
     i, j = state.start_cell
     reach = reachable(state)
     return [c for c in [(i + 4, j), (i - 4, j), (i, j + 4), (i, j - 4)]
-            if _inside(state, c) and reach[c]]
+            if on_grid(state, c) and reach[c]]
 
 
 def check_four_in_line(state, result):
@@ -322,13 +291,13 @@ def check_four_in_line(state, result):
 def check_ten_free_cells_known(state, result):
     """Exploring stops with the sense after which 10 or more known cells are free, or with the
     sense after which nothing more is to be found, whichever comes first."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
         _label(state, known, step)
         free = int((known & (state.truth != OBSTACLE)).sum())
         if step[0] == "sense" and (free >= 10 or exhausted(state, known)):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return "fewer than 10 free cells known, and more could be found"
 
 

@@ -76,8 +76,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, grams_in_receiver, neighbours,
-                                        reachable, scoops)
+from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, free_cell, free_neighbours,
+                                        grams_in_receiver, neighbours, obstacles_beside, reachable,
+                                        same_steps, scoops, sensed_cells, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -85,50 +86,12 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _steps(result) -> list[tuple[str, tuple[int, int]]]:
-    return [(s["primitive"], cell(s["param"])) for s in result.steps]
-
-
-def _inside(state, c) -> bool:
-    return 0 <= c[0] < state.size and 0 <= c[1] < state.size
-
-
-def _free(state, c) -> bool:
-    return _inside(state, c) and state.truth[c] != OBSTACLE
-
-
-def _plus(c, step) -> tuple[int, int]:
-    return c[0] + step[0], c[1] + step[1]
-
-
-def _free_beside(state, c) -> list[tuple[int, int]]:
-    return [n for n in neighbours(state, c) if _free(state, n)]
-
-
-def _crowd(state, c) -> int:
-    """How many obstacles are next to ``c`` (the grid's edge does not count)."""
-    return sum(state.truth[n] == OBSTACLE for n in neighbours(state, c))
-
-
-def _distance(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
-
-
-def _same(steps, want) -> str | None:
-    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
-
-
-def _shown(state, c) -> list[tuple[int, int]]:
-    """The cells a sense at ``c`` labels: ``c`` and the cells next to it."""
-    return [c, *neighbours(state, c)]
-
-
 def _label(state, known, step) -> int:
     """Mark what a sense step labels in ``known``; return how many cells it labelled that no
     earlier sense had (0 for a move)."""
     if step[0] != "sense":
         return 0
-    fresh = [n for n in _shown(state, step[1]) if not known[n]]
+    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
     for n in fresh:
         known[n] = True
     return len(fresh)
@@ -138,8 +101,8 @@ def _walk_plan(state, here, way):
     """From ``here``, the (move, sense) steps of a walk ``way`` while the next cell is inside the
     grid and free, and the cell it ends in."""
     plan = []
-    while _free(state, _plus(here, way)):
-        here = _plus(here, way)
+    while free_cell(state, step_by(here, way)):
+        here = step_by(here, way)
         plan += [("navigate", here), ("sense", here)]
     return plan, here
 
@@ -152,23 +115,23 @@ def check_diagonal_step(state, result):
     grid and free."""
     home = state.start_cell
     plan = [("sense", home)]
-    first = [c for c in (_plus(home, RIGHT), _plus(home, UP)) if _free(state, c)][:1]
+    first = [c for c in (step_by(home, RIGHT), step_by(home, UP)) if free_cell(state, c)][:1]
     if first:
         plan += [("navigate", first[0]), ("sense", first[0])]
         corner = (home[0] + 1, home[1] + 1)
-        if _free(state, corner):
+        if free_cell(state, corner):
             plan.append(("navigate", corner))
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_parity_step(state, result):
     """One sense; one move onto a free cell next to the start: in its column (above or below)
     if i + j of the start is even, in its row (left or right) if odd; onto any free cell next to
     it if there is none such."""
-    home, steps = state.start_cell, _steps(result)
+    home, steps = state.start_cell, steps_of(result)
     even = (home[0] + home[1]) % 2 == 0
-    line = [n for n in _free_beside(state, home) if (n[0] == home[0]) == even]
-    targets = line or _free_beside(state, home)
+    line = [n for n in free_neighbours(state, home) if (n[0] == home[0]) == even]
+    targets = line or free_neighbours(state, home)
     if len(steps) == 2 and steps[0] == ("sense", home) and steps[1][0] == "navigate" \
             and steps[1][1] in targets:
         return None
@@ -178,15 +141,15 @@ def check_parity_step(state, result):
 def check_obstacle_count_round_trips(state, result):
     """One sense; then only moves: n round trips (a free cell next to the start, the start; the
     same cell each time), n the obstacles next to the start."""
-    home, steps = state.start_cell, _steps(result)
-    n = _crowd(state, home)
+    home, steps = state.start_cell, steps_of(result)
+    n = obstacles_beside(state, home)
     if steps[:1] != [("sense", home)] or any(kind != "navigate" for kind, _ in steps[1:]):
         return f"ran {steps[:4]}, not one sense and then moves"
     route = [c for _, c in steps[1:]]
     spot = route[0] if route else None
     if n == 0:
         return None if not route else f"moved to {route[:4]} with no obstacle next to the start"
-    if spot in _free_beside(state, home) and route == [spot, home] * n:
+    if spot in free_neighbours(state, home) and route == [spot, home] * n:
         return None
     return f"moved to {route[:10]}, not {n} round trips to a free cell next to the start"
 
@@ -199,7 +162,7 @@ def check_left_wall_return(state, result):
     plan = [("sense", home)] + walk
     if end[0] == 0 and end != home:
         plan.append(("navigate", home))
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_two_lanes(state, result):
@@ -208,11 +171,11 @@ def check_two_lanes(state, result):
     home = state.start_cell
     up, top = _walk_plan(state, home, UP)
     plan = [("sense", home)] + up
-    if _free(state, _plus(top, RIGHT)):
-        shift = _plus(top, RIGHT)
+    if free_cell(state, step_by(top, RIGHT)):
+        shift = step_by(top, RIGHT)
         down, _ = _walk_plan(state, shift, DOWN)
         plan += [("navigate", shift), ("sense", shift)] + down
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_priority_walk_until_repeat(state, result):
@@ -221,21 +184,21 @@ def check_priority_walk_until_repeat(state, result):
     here = state.start_cell
     plan, stood = [("sense", here)], [here]
     while True:
-        nxt = [c for c in (_plus(here, UP), _plus(here, RIGHT), _plus(here, DOWN),
-                           _plus(here, LEFT)) if _free(state, c)][0]
+        nxt = [c for c in (step_by(here, UP), step_by(here, RIGHT), step_by(here, DOWN),
+                           step_by(here, LEFT)) if free_cell(state, c)][0]
         if nxt in stood:
             break
         here = nxt
         stood.append(here)
         plan += [("navigate", here), ("sense", here)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_landmark_seen_twice(state, result):
     """Exploring stops with the first sense that shows an obstacle an earlier sense from another
     cell showed, or with the sense after which nothing more is to be found, whichever comes
     first."""
-    steps = _steps(result)
+    steps = steps_of(result)
     known = state.truth != state.truth
     spots: list[tuple[int, int]] = []
     for index, step in enumerate(steps):
@@ -243,24 +206,24 @@ def check_landmark_seen_twice(state, result):
         if step[0] != "sense":
             continue
         here = step[1]
-        again = any(state.truth[o] == OBSTACLE and any(o in _shown(state, d) for d in spots
+        again = any(state.truth[o] == OBSTACLE and any(o in sensed_cells(state, d) for d in spots
                                                        if d != here)
-                    for o in _shown(state, here))
+                    for o in sensed_cells(state, here))
         spots.append(here)
         if again or exhausted(state, known):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return "no obstacle seen again, and more could be found"
 
 
 def check_start_row_known(state, result):
     """Exploring stops with the sense after which all ten cells of the start's row are known, or
     with the sense after which nothing more is to be found, whichever comes first."""
-    steps, row = _steps(result), state.start_cell[1]
+    steps, row = steps_of(result), state.start_cell[1]
     known = state.truth != state.truth
     for index, step in enumerate(steps):
         _label(state, known, step)
         if step[0] == "sense" and (known[:, row].all() or exhausted(state, known)):
-            return _same(steps[index + 1:], [])
+            return same_steps(steps[index + 1:], [])
     return "the start's row is not all known, and more could be found"
 
 
@@ -285,11 +248,11 @@ def check_spiral_search(state, result):
     home = state.start_cell
     plan = [("sense", home)]
     for offset in _spiral():
-        nxt = _plus(home, offset)
-        if not _free(state, nxt):
+        nxt = step_by(home, offset)
+        if not free_cell(state, nxt):
             break
         plan += [("navigate", nxt), ("sense", nxt)]
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_longer_arm(state, result):
@@ -302,14 +265,14 @@ def check_longer_arm(state, result):
     plan = [("sense", home)] + right + ([("navigate", home)] if right else []) + left
     if len(right) > len(left):
         plan.append(("navigate", right_end))
-    return _same(_steps(result), plan)
+    return same_steps(steps_of(result), plan)
 
 
 def check_nearest_first_goal_tour(state, result):
     """Nothing more to find at the end; after the last sense only moves, one onto each reachable
     goal but the one the last sense was taken on (if it is one), each onto an unvisited goal
     nearest to where the agent stands."""
-    steps = _steps(result)
+    steps = steps_of(result)
     if not exhausted(state):
         return "stopped before everything was known"
     senses = [k for k, (kind, _) in enumerate(steps) if kind == "sense"]
@@ -321,9 +284,9 @@ def check_nearest_first_goal_tour(state, result):
     for _, target in rest:
         if target not in left:
             return f"after the last sense ran {rest[:8]}; goals left to visit {left}"
-        nearest = min(_distance(here, g) for g in left)
-        if _distance(here, target) != nearest:
-            return f"went from {here} to {target}, {_distance(here, target)} away; nearest " \
+        nearest = min(distance(here, g) for g in left)
+        if distance(here, target) != nearest:
+            return f"went from {here} to {target}, {distance(here, target)} away; nearest " \
                    f"unvisited goal {nearest} away"
         left.remove(target)
         here = target
@@ -334,7 +297,7 @@ def check_upward_survey(state, result):
     """Sense, then (move, sense there) pairs, each move ending in a row j at least that of the
     cell it left; at the end every known free cell in the agent's row or above has every cell
     next to it known."""
-    steps = _steps(result)
+    steps = steps_of(result)
     home = state.start_cell
     if steps[:1] != [("sense", home)]:
         return f"ran {steps[:2]}, not a sense at the start first"

@@ -97,6 +97,48 @@ def neighbours(state: GridState, c: Cell) -> list[Cell]:
             if 0 <= a < state.size and 0 <= b < state.size]
 
 
+def on_grid(state: GridState, c: Cell) -> bool:
+    return 0 <= c[0] < state.size and 0 <= c[1] < state.size
+
+
+def free_cell(state: GridState, c: Cell) -> bool:
+    """``c`` is on the grid and holds no obstacle (empty or a goal)."""
+    return on_grid(state, c) and state.truth[c] != OBSTACLE
+
+
+def free_neighbours(state: GridState, c: Cell) -> list[Cell]:
+    return [n for n in neighbours(state, c) if free_cell(state, n)]
+
+
+def obstacles_beside(state: GridState, c: Cell) -> int:
+    """How many obstacles are next to ``c`` (the grid's edge does not count)."""
+    return sum(state.truth[n] == OBSTACLE for n in neighbours(state, c))
+
+
+def sensed_cells(state: GridState, c: Cell) -> list[Cell]:
+    """The cells a sense at ``c`` labels: ``c`` and the cells next to it."""
+    return [c, *neighbours(state, c)]
+
+
+def step_by(c: Cell, step: tuple[int, int]) -> Cell:
+    return c[0] + step[0], c[1] + step[1]
+
+
+def distance(a: Cell, b: Cell) -> int:
+    """Steps along rows and columns, obstacles ignored: |di| + |dj|."""
+    return abs(a[0] - b[0]) + abs(a[1] - b[1])
+
+
+def steps_of(result: EpisodeResult) -> list[tuple[str, Cell]]:
+    """Each step of the episode as (primitive, cell)."""
+    return _plan(result.steps)
+
+
+def same_steps(steps: list, want: list) -> str | None:
+    """None if ``steps`` are ``want``, else what ran instead (the first ten of each)."""
+    return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
+
+
 def reachable(state: GridState) -> np.ndarray:
     """Cells of the start cell's free component in the true map (a boolean grid)."""
     return state.component == state.component[state.start_cell]
