@@ -358,7 +358,9 @@ def test_helpers_read_only_the_observation(grid_env):
     assert helpers.beside((1, 1), "up") == (1, 2) and helpers.beside((0, 0), "left") is None
     assert helpers.is_free((1, 2)) and not helpers.is_free((5, 5))
     assert not helpers.is_free(None)  # outside the grid: nothing can stand there
-    assert not any(helpers.is_free(c) for c in [(-1, 4), (1, 10), (10**30, 0), (0, -10**30)])
+    assert not any(helpers.is_free(c) for c in [(-1, 4), (1, 10), (10**30, 0), (0, -10**30),
+                                                 (np.int64(-1), np.int64(3)), [10, 0]])
+    assert helpers.is_free((np.int64(1), np.int64(2))) and helpers.is_free([1, 2])
     for bad in ["A1", (1.0, 2), (True, 0), (1, 2, 3)]:
         with pytest.raises(ValueError, match=r"^is_free\(\): .* not a cell"):
             helpers.is_free(bad)

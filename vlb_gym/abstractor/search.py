@@ -94,15 +94,17 @@ def named_from_here(vocabulary: Vocabulary, space: SearchSpace, phrases: list[li
     for name, (kinds, result) in vocabulary.helpers.items():
         if len(kinds) == 2 and kinds[0] == here_kind and kinds[1].startswith("str:"):
             values = kinds[1][4:].split("|")
-            out += [(result, f"{call_name(name)}({here}, {v!r})", 0) for v in values
-                    if v in words]
+            place = {v: f"{call_name(name)}({here}, {v!r})" for v in values if v in words}
+            out += [(result, text, 0) for text in place.values()]
             feasible = next((p.feasible for p in space.parameters
                              if p.kind == result and p.feasible), None)
+            if feasible is None:
+                continue
             orders = dict.fromkeys(tuple(dict.fromkeys(w for w in phrase if w in values))
                                    for phrase in phrases)
             var = BOUND[0]
-            for order in [o for o in orders if len(o) > 1 and feasible][:MAX_ORDERS]:
-                places = ", ".join(f"{call_name(name)}({here}, {v!r})" for v in order)
+            for order in [o for o in orders if len(o) > 1][:MAX_ORDERS]:
+                places = ", ".join(place[v] for v in order)
                 out.append((f"list[{result}]",
                             f"[{var} for {var} in [{places}] if {feasible.format(var)}]", 0))
     return out
