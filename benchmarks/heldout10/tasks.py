@@ -83,10 +83,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, first_goal_sense,
-                                        free_cell, free_neighbours, grams_in_receiver,
-                                        grams_spilled, same_steps, scoops, sensed_cells, step_by,
-                                        steps_of)
+from benchmarks.synthesis_tasks import (cell, distance, exhausted, first_goal_sense, free_cell,
+                                        free_neighbours, grams_in_receiver, grams_spilled,
+                                        held_out_task, indices, label_sensed, same_steps, scoops,
+                                        sensed_cells, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -94,15 +94,6 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _label(state, known, step) -> int:
-    """Mark what a sense step labels in ``known``; return how many cells it labelled that no
-    earlier sense had (0 for a move)."""
-    if step[0] != "sense":
-        return 0
-    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
-    for n in fresh:
-        known[n] = True
-    return len(fresh)
 
 
 def _walk_plan(state, here, way):
@@ -201,7 +192,7 @@ def check_back_in_start_row(state, result):
     known = state.truth != state.truth
     out = False
     for index, step in enumerate(steps):
-        _label(state, known, step)
+        label_sensed(state, known, step)
         if step[0] == "navigate":
             if step[1][1] == row and out:
                 return same_steps(steps[index + 1:], [])
@@ -252,7 +243,7 @@ def check_back_to_second_look(state, result):
     known = state.truth != state.truth
     looks: list[tuple[int, int]] = []
     for index, step in enumerate(steps):
-        _label(state, known, step)
+        label_sensed(state, known, step)
         if step[0] != "sense":
             continue
         looks.append(step[1])
@@ -274,7 +265,7 @@ def check_halfway_cell(state, result):
         return "no goal seen"
     known = state.truth != state.truth
     for step in steps[:index + 1]:
-        _label(state, known, step)
+        label_sensed(state, known, step)
     here, rest = steps[index][1], steps[index + 1:]
     spots = [cell(c) for c in zip(*(known & (state.truth != OBSTACLE)).nonzero())]
     for goal in (g for g in sensed_cells(state, here) if state.truth[g] == GOAL):
@@ -351,15 +342,9 @@ def check_moved_out_of_donor(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
-def _k(n: int) -> str:
-    """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
-    return "[" + ", ".join(str(k) for k in range(n)) + "]"
 
 
 # The promises' language allows at most 3 comprehension loops in one expression: these are
@@ -476,7 +461,7 @@ TASKS = [
           "find.",
           f"all((primitives()[-1:] == ['navigate'] and not explored_all() and R[:1] == "
           f"[len(moves()) - 1]) or (primitives()[-1:] == ['sense'] and explored_all() and "
-          f"{_FRESH} and R == []) for R in [[k for k in {_k(100)}[:len(moves())] if "
+          f"{_FRESH} and R == []) for R in [[k for k in {indices(100)}[:len(moves())] if "
           f"moves()[k][1] == {_S1} and any(m[1] != {_S1} for m in moves()[:k])]])"),
     _task("nearer_of_start_and_first_step", 2, check_nearer_of_start_and_first_step,
           "Explore until a sense shows you a goal, but do not go to the goal. Instead compare "
@@ -532,7 +517,7 @@ TASKS = [
           "grid or an obstacle while you are heading left: a fourth turn is never made.",
           f"{_LINE} and len(moves()) <= 36 and all([c for c in [(q[0], q[1] + 1), (q[0] + 1, "
           f"q[1]), (q[0], q[1] - 1), (q[0] - 1, q[1])][P:] if c in neighbours(q) and not "
-          f"is_obstacle(c)][:1] == moves()[k:k + 1] for k in {_k(37)}[:len(moves()) + 1] for q, "
+          f"is_obstacle(c)][:1] == moves()[k:k + 1] for k in {indices(37)}[:len(moves()) + 1] for q, "
           f"P in [({_Q}, {_WAS})])"),
     _task("down_left_retrace", 3, check_down_left_retrace,
           "Sense, then walk down (j - 1) one cell at a time while the cell below you is inside "
@@ -545,7 +530,7 @@ TASKS = [
           f"{_K} <= 18 and sensed() == [{_S}] + moves()[:{_K}] and moves()[{_K}:] == "
           f"sensed()[:-1][::-1] and all((q[0] == {_S0} and moves()[k] == (q[0], q[1] - 1)) or "
           f"(moves()[k] == (q[0] - 1, q[1]) and (q[0] < {_S0} or {_down_shut('q')})) for k in "
-          f"{_k(19)}[:{_K}] for q in [sensed()[k]]) and {_left_shut(_L)} and ({_L}[0] < {_S0} "
+          f"{indices(19)}[:{_K}] for q in [sensed()[k]]) and {_left_shut(_L)} and ({_L}[0] < {_S0} "
           f"or {_down_shut(_L)})"),
     _task("hug_home_walk", 3, check_hug_home_walk,
           "Stay close to home while you look around. Sense, then make up to eight moves, "
@@ -556,7 +541,7 @@ TASKS = [
           "(i + 1), down (j - 1) and left (i - 1). Stop after the eighth move, or earlier when "
           "every free cell next to you is one you have stood in.",
           f"{_LINE} and len(moves()) <= 8 and all((P != [] and moves()[k] == min(P)[2]) if k < "
-          f"len(moves()) else (len(moves()) == 8 or P == []) for k in {_k(9)}[:len(moves()) + "
+          f"len(moves()) else (len(moves()) == 8 or P == []) for k in {indices(9)}[:len(moves()) + "
           f"1] for P in [{_HUG}])"),
     _task("scoop_fee", 2, check_scoop_fee,
           f"Every scoop costs {FEE} grams. Scoop at least once and at most five times, then "

@@ -90,10 +90,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, first_goal_sense,
-                                        free_cell, free_neighbours, grams_in_receiver,
-                                        grams_spilled, obstacles_beside, on_grid, reachable,
-                                        same_steps, scoops, sensed_cells, step_by, steps_of)
+from benchmarks.synthesis_tasks import (cell, distance, exhausted, first_goal_sense, free_cell,
+                                        free_neighbours, grams_in_receiver, grams_spilled,
+                                        held_out_task, indices, label_sensed, obstacles_beside,
+                                        on_grid, reachable, same_steps, scoops, sensed_cells,
+                                        step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -101,15 +102,6 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _label(state, known, step) -> int:
-    """Mark what a sense step labels in ``known``; return how many cells it labelled that no
-    earlier sense had (0 for a move)."""
-    if step[0] != "sense":
-        return 0
-    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
-    for n in fresh:
-        known[n] = True
-    return len(fresh)
 
 
 def _goal_seen(state, result):
@@ -235,7 +227,7 @@ def check_home_like_spot(state, result):
     count = obstacles_beside(state, home)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
-        _label(state, known, step)
+        label_sensed(state, known, step)
         if step[0] != "sense":
             continue
         if (step[1] != home and obstacles_beside(state, step[1]) == count) or exhausted(state, known):
@@ -379,15 +371,9 @@ def check_spare_the_donor(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
-def _k(n: int) -> str:
-    """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
-    return "[" + ", ".join(str(k) for k in range(n)) + "]"
 
 
 # The promises' language allows at most 3 comprehension loops in one expression: these are
@@ -471,7 +457,7 @@ TASKS = [
           f"{_shut('s', 't + a + 1', 't + a == 9')}) and (b == 2 or "
           f"{_shut('s + b + 1', 't + a', 's + b == 9')}) and (c == 2 or "
           f"{_shut('s + b', 't + a - c - 1', 't + a - c == 0')}) for s, t in [{_S}] for a, b, c in "
-          f"[(x // 9, x // 3 % 3, x % 3) for x in {_k(27)}])"),
+          f"[(x // 9, x // 3 % 3, x % 3) for x in {indices(27)}])"),
     _task("goal_above_or_home", 2, check_goal_above_or_home,
           "Explore until a sense shows you a goal. If that goal lies in a row above the one "
           "you started in (its j is larger than your starting cell's), go onto it with one "
@@ -499,7 +485,7 @@ TASKS = [
           "next to the cell you sense from. If there is nothing more to find before that "
           "happens, stop right after the sense that leaves nothing more to find.",
           f"primitives()[-1:] == ['sense'] and len(sensed()) <= 100 and (not explored_all() or "
-          f"{_FRESH}) and [k for k in {_k(100)}[:len(sensed())] if sensed()[k] != {_S} and "
+          f"{_FRESH}) and [k for k in {indices(100)}[:len(sensed())] if sensed()[k] != {_S} and "
           f"{_crowd_of('sensed()[k]')} == {_crowd_of(_S, 'x')}][:1] in [[len(sensed()) - 1]] + "
           f"([[]] if explored_all() else [])"),
     _task("two_more_looks_then_goal", 2, check_two_more_looks_then_goal,
@@ -534,10 +520,10 @@ TASKS = [
           "one).",
           f"len(moves()) <= 29 and sensed() == [{_S}] + "
           f"[moves()[k] for k in "
-          f"{_k(29)}[:len(moves())] if moves()[k][0] <= {_P}[k][0]] and all(moves()[k:k + 1] == "
+          f"{indices(29)}[:len(moves())] if moves()[k][0] <= {_P}[k][0]] and all(moves()[k:k + 1] == "
           f"([{_QR}] if q[0] < {_S0} else ([{_QL}] if (k == 0 or {_P}[k - 1] != {_QL}) and "
           f"{_open(_QL, 'q')} else ([{_QU}] if {_open(_QU, 'q')} else []))) for k in "
-          f"{_k(30)}[:len(moves()) + 1] for q in [{_P}[k]])"),
+          f"{indices(30)}[:len(moves()) + 1] for q in [{_P}[k]])"),
     _task("right_around_obstacles", 3, check_right_around_obstacles,
           "Walk right along your row, going round obstacles over the top. Sense, then walk "
           "right (i + 1) one cell at a time, sensing after every move. When the cell to your "
@@ -549,7 +535,7 @@ TASKS = [
           f"{_LINE} and len(moves()) <= 30 and all([c for c in ((([{_QR}, {_QU}] if q[0] < 9 "
           f"else []) if q[1] == {_S1} else ([{_QR}] if sensed()[k - 1][1] < q[1] else [{_QD}, "
           f"{_QR}]))) if {_open('c', 'q')}][:1] == moves()[k:k + 1] for k in "
-          f"{_k(31)}[:len(moves()) + 1] for q in [sensed()[k]])"),
+          f"{indices(31)}[:len(moves()) + 1] for q in [sensed()[k]])"),
     _task("goal_shuttle", 3, check_goal_shuttle,
           "Explore until there is nothing more to find. Then, without sensing again, shuttle "
           "between two of the goals you found: four moves, alternating between the two, the "

@@ -102,10 +102,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, distance, exhausted, first_goal_sense, free_cell,
-                                        grams_in_receiver, grams_spilled, known_after,
-                                        neighbours, obstacles_beside, on_grid, reachable,
-                                        same_steps, scoops, sensed_cells, step_by, steps_of)
+from benchmarks.synthesis_tasks import (distance, exhausted, first_goal_sense, free_cell,
+                                        grams_in_receiver, grams_spilled, held_out_task, indices,
+                                        known_after, neighbours, obstacles_beside, on_grid,
+                                        reachable, same_steps, scoops, sensed_cells, step_by,
+                                        steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -364,15 +365,9 @@ def check_spill_under_average_scoop(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
-def _k(n: int) -> str:
-    """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
-    return "[" + ", ".join(str(k) for k in range(n)) + "]"
 
 
 # The promises' language allows at most 3 comprehension loops in one expression (all of its
@@ -384,7 +379,7 @@ _LINE = "primitives() == ['sense'] + ['navigate', 'sense'] * len(moves()) and " 
 # after the last sense: nothing, or one move (the last sense is then the step before it)
 _STAY = "primitives()[-1] == 'sense'"
 _MOVE = "primitives()[-2:] == ['sense', 'navigate']"
-_K10, _K100 = _k(10), _k(100)
+_K10, _K100 = indices(10), indices(100)
 
 
 def _dist(a: str, b: str) -> str:
@@ -524,7 +519,7 @@ TASKS = [
           f"goal_found() and sensed()[-1:] != [] and ((steps_after_goal() == 0 and "
           f"is_goal({_L})) or (steps_after_goal() == 1 and primitives()[-1] == 'navigate' and "
           f"not is_goal({_L}) and is_goal({_F}))) and all({_P}[10 * a + b + 1] in "
-          f"neighbours({_P}[10 * a + b]) for a in {_k(50)} for b in {_K10} if 10 * a + b < "
+          f"neighbours({_P}[10 * a + b]) for a in {indices(50)} for b in {_K10} if 10 * a + b < "
           f"len(moves()))"),
     _task("last_seen_goal", 3, check_last_seen_goal,
           "Explore until there is nothing more to find. Keep track of the order in which the "

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense,
-                                        grams_in_receiver, moves, neighbours, reachable, scoops)
+from benchmarks.synthesis_tasks import (cell, exhausted, first_goal_sense, grams_in_receiver,
+                                        held_out_task, moves, neighbours, reachable, scoops)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -231,10 +231,7 @@ def check_three_scoops(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
 _UP = "(start_cell()[0], start_cell()[1] + 1)"

@@ -20,9 +20,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, free_cell, grams_in_receiver,
-                                        known_after, moves, neighbours, reachable, same_steps,
-                                        scoops, step_by, steps_of)
+from benchmarks.synthesis_tasks import (cell, exhausted, free_cell, grams_in_receiver,
+                                        held_out_task, known_after, moves, neighbours, reachable,
+                                        same_steps, scoops, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -206,10 +206,7 @@ def check_two_scoops_40g(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
 _LINE = "primitives() == ['sense'] + ['navigate', 'sense'] * len(moves()) and " \

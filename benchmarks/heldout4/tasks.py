@@ -32,10 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.synthesis_tasks import (Task, cell, exhausted, first_goal_sense, first_reaching,
-                                        free_cell, free_neighbours, grams_in_receiver, moves,
-                                        neighbours, reachable, same_steps, scoops, step_by,
-                                        steps_of)
+from benchmarks.synthesis_tasks import (cell, exhausted, first_goal_sense, first_reaching,
+                                        free_cell, free_neighbours, grams_in_receiver,
+                                        held_out_task, moves, neighbours, reachable, same_steps,
+                                        scoops, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -237,10 +237,7 @@ def check_three_scoops_60g(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
 _LINE = "primitives() == ['sense'] + ['navigate', 'sense'] * len(moves()) and " \

@@ -64,10 +64,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, free_cell, free_neighbours,
-                                        grams_in_receiver, grams_spilled, moves, neighbours,
-                                        obstacles_beside, reachable, same_steps, scoops,
-                                        sensed_cells, step_by, steps_of)
+from benchmarks.synthesis_tasks import (cell, distance, exhausted, free_cell, free_neighbours,
+                                        grams_in_receiver, grams_spilled, held_out_task, indices,
+                                        moves, neighbours, obstacles_beside, reachable, same_steps,
+                                        scoops, sensed_cells, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE, UNEXPLORED
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -310,15 +310,9 @@ def check_three_scoops_net_gain(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
-def _k(n: int) -> str:
-    """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
-    return "[" + ", ".join(str(k) for k in range(n)) + "]"
 
 
 _S = "start_cell()"
@@ -366,7 +360,7 @@ _LAST_SENSE_FRESH = "any(not any(c in [x] + neighbours(x) for c in sensed()[:-1]
                     "[sensed()[-1]] + neighbours(sensed()[-1]))"
 _STOOD = "([start_cell()] + moves())"
 _TRAVELLED = f"sum(abs({_STOOD}[k + 1][0] - {_STOOD}[k][0]) + abs({_STOOD}[k + 1][1] - " \
-             f"{_STOOD}[k][1]) for k in {_k(100)}[:len(moves())])"
+             f"{_STOOD}[k][1]) for k in {indices(100)}[:len(moves())])"
 _LAST_LENGTH = f"(abs(moves()[-1][0] - {_STOOD}[-2][0]) + abs(moves()[-1][1] - {_STOOD}[-2][1]))"
 _HEADED = "([(start_cell()[0], start_cell()[1] - 1)] + sensed())"  # as if it came from below
 _TURNS = "[(p[0] + p[1] - q[1], p[1] - p[0] + q[0]), (2 * p[0] - q[0], 2 * p[1] - q[1]), " \
@@ -446,7 +440,7 @@ TASKS = [
           "move, going up again as soon as you can. Stop when you can go neither up nor right.",
           f"{_LINE} and len(moves()) <= 18 and all(moves()[k] == ((p[0], p[1] + 1) if "
           f"{_up_free('p')} else (p[0] + 1, p[1])) and ({_up_free('p')} or {_right_free('p')}) "
-          f"for k in {_k(18)}[:len(moves())] for p in [sensed()[k]]) and not "
+          f"for k in {indices(18)}[:len(moves())] for p in [sensed()[k]]) and not "
           f"{_up_free('final_cell()')} and not {_right_free('final_cell()')}"),
     _task("square_survey", 3, check_square_survey,
           "Map the 5-by-5 square of cells centred on your starting cell: the cells at most 2 "
@@ -466,7 +460,7 @@ TASKS = [
           "face that way) and sense again. "
           "Stop after the eighth move and its sense.",
           f"{_LINE} and len(moves()) == 8 and all([c for c in {_TURNS} if c in neighbours(p) "
-          f"and not is_obstacle(c)][:1] == [n] for k in {_k(8)} for q, p, n in "
+          f"and not is_obstacle(c)][:1] == [n] for k in {indices(8)} for q, p, n in "
           f"[({_HEADED}[k], {_HEADED}[k + 1], {_HEADED}[k + 2])])"),
     _task("least_hemmed_goal", 3, check_least_hemmed_goal,
           "Explore until there is nothing more to find. Then go to the goal you can reach that "
@@ -484,7 +478,7 @@ TASKS = [
           f"['navigate', 'sense'] * (len(moves()) - 1) + ['navigate'] and sensed() == "
           f"[start_cell()] + moves()[:-1] and all(moves()[k] in neighbours(sensed()[k]) and "
           f"moves()[k] not in sensed()[:k + 1] and not is_obstacle(moves()[k]) for k in "
-          f"{_k(80)}[:len(moves()) - 1]) and ((steps_after_goal() == 1 and "
+          f"{indices(80)}[:len(moves()) - 1]) and ((steps_after_goal() == 1 and "
           f"is_goal(final_cell()) and final_cell() in [sensed()[-1]] + "
           f"neighbours(sensed()[-1])) or (steps_after_goal() == -1 and final_cell() == "
           f"start_cell() and all(is_obstacle(n) or n in sensed() for n in "

@@ -71,10 +71,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, first_goal_sense,
-                                        free_cell, free_neighbours, grams_in_receiver,
-                                        grams_spilled, neighbours, on_grid, reachable, same_steps,
-                                        scoops, sensed_cells, step_by, steps_of)
+from benchmarks.synthesis_tasks import (cell, distance, exhausted, first_goal_sense, free_cell,
+                                        free_neighbours, grams_in_receiver, grams_spilled,
+                                        held_out_task, indices, label_sensed, neighbours, on_grid,
+                                        reachable, same_steps, scoops, sensed_cells, step_by,
+                                        steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -82,15 +83,6 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _label(state, known, step) -> int:
-    """Mark what a sense step labels in ``known``; return how many cells it labelled that no
-    earlier sense had (0 for a move)."""
-    if step[0] != "sense":
-        return 0
-    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
-    for n in fresh:
-        known[n] = True
-    return len(fresh)
 
 
 def _walk(state, result, first: int = 1):
@@ -144,7 +136,7 @@ def check_wander_until_nothing_new(state, result):
     if steps[:1] != [("sense", home)]:
         return f"ran {steps[:2]}, not a sense at the start first"
     known = state.truth != state.truth
-    _label(state, known, steps[0])
+    label_sensed(state, known, steps[0])
     here, index = home, 1
     while True:
         rest = steps[index:]
@@ -152,7 +144,7 @@ def check_wander_until_nothing_new(state, result):
                 free_neighbours(state, here) or rest[1] != ("sense", rest[0][1]):
             return f"from {here} ran {rest[:2]}, not a step onto a free neighbour and a sense"
         here, index = rest[0][1], index + 2
-        if not _label(state, known, rest[1]):
+        if not label_sensed(state, known, rest[1]):
             return same_steps(steps[index:], [])
 
 
@@ -170,7 +162,7 @@ def check_two_touching_obstacles(state, result):
     steps = steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
-        _label(state, known, step)
+        label_sensed(state, known, step)
         if step[0] == "sense" and (_touching(state, known) or exhausted(state, known)):
             return same_steps(steps[index + 1:], [])
     return "no two touching obstacles known, and more could be found"
@@ -248,7 +240,7 @@ def check_efficient_explore(state, result):
     steps = steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
-        if step[0] == "sense" and not _label(state, known, step):
+        if step[0] == "sense" and not label_sensed(state, known, step):
             return f"the sense at step {index + 1} ({step[1]}) showed nothing new"
         if step[0] == "sense" and exhausted(state, known):
             return same_steps(steps[index + 1:], [])
@@ -294,7 +286,7 @@ def check_ten_free_cells_known(state, result):
     steps = steps_of(result)
     known = state.truth != state.truth
     for index, step in enumerate(steps):
-        _label(state, known, step)
+        label_sensed(state, known, step)
         free = int((known & (state.truth != OBSTACLE)).sum())
         if step[0] == "sense" and (free >= 10 or exhausted(state, known)):
             return same_steps(steps[index + 1:], [])
@@ -324,15 +316,9 @@ def check_capped_fill(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
-def _k(n: int) -> str:
-    """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
-    return "[" + ", ".join(str(k) for k in range(n)) + "]"
 
 
 _S = "start_cell()"
@@ -431,7 +417,7 @@ TASKS = [
           "next to it) was already shown to you by an earlier sense.",
           f"{_LINE} and len(moves()) >= 1 and len(moves()) <= 90 and all(moves()[k] in "
           f"neighbours(sensed()[k]) and not is_obstacle(moves()[k]) and {_new('k')} for k in "
-          f"{_k(90)}[:len(moves())]) and len(known_before_last()) == len(known_cells())"),
+          f"{indices(90)}[:len(moves())]) and len(known_before_last()) == len(known_cells())"),
     _task("two_touching_obstacles", 2, check_two_touching_obstacles,
           "Explore until you have found two obstacles that touch: two obstacle cells right "
           "next to each other in a row or a column. Stop right after the sense that first "
@@ -448,7 +434,7 @@ TASKS = [
           "there.",
           f"{_LINE} and len(moves()) <= 18 and all(moves()[k] == ((p[0], p[1] - 1) if "
           f"{_down_free('p')} else (p[0] - 1, p[1])) and {_descend('p')} for k in "
-          f"{_k(18)}[:len(moves())] for p in [sensed()[k]]) and not "
+          f"{indices(18)}[:len(moves())] for p in [sensed()[k]]) and not "
           f"{_descend('final_cell()')}"),
     _task("free_count_straight_walk", 2, check_free_count_straight_walk,
           "Sense at your starting cell and count the free cells right next to it (between 1 "
@@ -457,7 +443,7 @@ TASKS = [
           "Stop early if the next cell ahead is outside the grid or an obstacle.",
           f"{_LINE} and len(moves()) >= 1 and {_M0} in neighbours(start_cell()) and not "
           f"is_obstacle({_M0}) and all(moves()[k] == ({_M0}[0] + k * {_DI}, {_M0}[1] + k * "
-          f"{_DJ}) for k in {_k(4)}[:len(moves())]) and all(len(moves()) <= n and (len(moves()) "
+          f"{_DJ}) for k in {indices(4)}[:len(moves())]) and all(len(moves()) <= n and (len(moves()) "
           f"== n or not (e[0] >= 0 and e[0] <= 9 and e[1] >= 0 and e[1] <= 9 and not "
           f"is_obstacle(e))) for n, e in [({_free_count(_S)}, {_AHEAD})])"),
     _task("goal_chain", 2, check_goal_chain,
@@ -480,14 +466,14 @@ TASKS = [
           "the next cell ahead is outside the grid or an obstacle.",
           f"{_LINE} and len(moves()) <= 9 and all((moves()[k] == (p[0] + h, p[1]) and "
           f"{_ahead_free('p', 'h')} and (k == 0 or f < 3) if k < len(moves()) else (k > 0 and "
-          f"f >= 3) or not {_ahead_free('p', 'h')}) for k in {_k(10)}[:len(sensed())] for p, f, "
+          f"f >= 3) or not {_ahead_free('p', 'h')}) for k in {indices(10)}[:len(sensed())] for p, f, "
           f"h in [(sensed()[k], {_free_count('sensed()[k]')}, 1 if {_right_free(_S)} else -1)])"),
     _task("efficient_explore", 3, check_efficient_explore,
           "Explore until there is nothing more to find, without wasting a single look: every "
           "sense you take must show you at least one cell you did not know yet. Stop right "
           "after the sense that leaves nothing more to find.",
           f"primitives()[-1:] == ['sense'] and explored_all() and len(sensed()) <= 100 and "
-          f"all({_new('k')} for k in {_k(100)}[:len(sensed())])"),
+          f"all({_new('k')} for k in {indices(100)}[:len(sensed())])"),
     _task("clearest_cell", 3, check_clearest_cell,
           "Explore until there is nothing more to find. Then go to the free cell you can reach "
           "that lies farthest from its nearest obstacle -- counting steps along rows and "

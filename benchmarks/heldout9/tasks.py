@@ -76,9 +76,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (Task, cell, distance, exhausted, free_cell, free_neighbours,
-                                        grams_in_receiver, neighbours, obstacles_beside, reachable,
-                                        same_steps, scoops, sensed_cells, step_by, steps_of)
+from benchmarks.synthesis_tasks import (cell, distance, exhausted, free_cell, free_neighbours,
+                                        grams_in_receiver, held_out_task, indices, label_sensed,
+                                        neighbours, obstacles_beside, reachable, same_steps, scoops,
+                                        sensed_cells, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -86,15 +87,6 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _label(state, known, step) -> int:
-    """Mark what a sense step labels in ``known``; return how many cells it labelled that no
-    earlier sense had (0 for a move)."""
-    if step[0] != "sense":
-        return 0
-    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
-    for n in fresh:
-        known[n] = True
-    return len(fresh)
 
 
 def _walk_plan(state, here, way):
@@ -202,7 +194,7 @@ def check_landmark_seen_twice(state, result):
     known = state.truth != state.truth
     spots: list[tuple[int, int]] = []
     for index, step in enumerate(steps):
-        _label(state, known, step)
+        label_sensed(state, known, step)
         if step[0] != "sense":
             continue
         here = step[1]
@@ -221,7 +213,7 @@ def check_start_row_known(state, result):
     steps, row = steps_of(result), state.start_cell[1]
     known = state.truth != state.truth
     for index, step in enumerate(steps):
-        _label(state, known, step)
+        label_sensed(state, known, step)
         if step[0] == "sense" and (known[:, row].all() or exhausted(state, known)):
             return same_steps(steps[index + 1:], [])
     return "the start's row is not all known, and more could be found"
@@ -303,7 +295,7 @@ def check_upward_survey(state, result):
         return f"ran {steps[:2]}, not a sense at the start first"
     here = home
     known = state.truth != state.truth
-    _label(state, known, steps[0])
+    label_sensed(state, known, steps[0])
     for k in range(1, len(steps), 2):
         pair = steps[k:k + 2]
         if len(pair) != 2 or pair[0][0] != "navigate" or pair[1] != ("sense", pair[0][1]):
@@ -311,7 +303,7 @@ def check_upward_survey(state, result):
         if pair[0][1][1] < here[1]:
             return f"moved down from {here} to {pair[0][1]}"
         here = pair[0][1]
-        _label(state, known, pair[1])
+        label_sensed(state, known, pair[1])
     size = state.size
     loose = [(i, j) for i in range(size) for j in range(here[1], size)
              if known[i, j] and state.truth[i, j] != OBSTACLE
@@ -342,15 +334,9 @@ def check_two_or_four_scoops(state, result):
 
 # --- the set ------------------------------------------------------------------------------
 
-def _task(name: str, difficulty: int, check, description: str, promise: str,
-          env_id: str = "VLB-GridExplore-v0") -> Task:
-    return Task(name, description, difficulty, False, REFERENCES / f"{name}.json", check,
-                promise, env_id)
+_task = held_out_task(REFERENCES)
 
 
-def _k(n: int) -> str:
-    """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
-    return "[" + ", ".join(str(k) for k in range(n)) + "]"
 
 
 # The promises' language allows at most 3 comprehension loops in one expression: these are
@@ -465,7 +451,7 @@ TASKS = [
           f"{_LINE} and len(moves()) <= 19 and all((q[0] == {_S0} and moves()[k] == (q[0], q[1] + "
           f"1)) or (q[0] == {_S0} and moves()[k] == (q[0] + 1, q[1]) and {_up_shut('q')}) or "
           f"(q[0] == {_S0} + 1 and moves()[k] == (q[0], q[1] - 1)) for k in "
-          f"{_k(20)}[:len(moves())] for q in [sensed()[k]]) and all(({_up_shut('f')} and "
+          f"{indices(20)}[:len(moves())] for q in [sensed()[k]]) and all(({_up_shut('f')} and "
           f"{_right_shut('f')}) if f[0] == {_S0} else {_down_shut('f')} for f in [final_cell()])"),
     _task("priority_walk_until_repeat", 2, check_priority_walk_until_repeat,
           "Sense, then walk by a fixed preference: of the cells above you (j + 1), to your right "
@@ -474,7 +460,7 @@ TASKS = [
           "starting cell counts), stop where you are; otherwise move onto it, sense there, and "
           "pick again.",
           f"{_LINE} and len(moves()) <= 99 and all((moves()[k] == p and p not in sensed()[:k + 1]) "
-          f"if k < len(moves()) else p in sensed() for k in {_k(100)}[:len(sensed())] for p in "
+          f"if k < len(moves()) else p in sensed() for k in {indices(100)}[:len(sensed())] for p in "
           f"[[c for c in [({_Q}[0], {_Q}[1] + 1), ({_Q}[0] + 1, {_Q}[1]), ({_Q}[0], {_Q}[1] - 1), "
           f"({_Q}[0] - 1, {_Q}[1])] if {_open('c', _Q)}][0]])"),
     _task("landmark_seen_twice", 2, check_landmark_seen_twice,
@@ -483,7 +469,7 @@ TASKS = [
           "cell, had already shown you. If there is nothing more to find before that happens, "
           "stop right after the sense that leaves nothing more to find.",
           f"primitives()[-1:] == ['sense'] and len(sensed()) <= 100 and {_NOT_DONE_BEFORE} and "
-          f"[k for k in {_k(100)}[:len(sensed())] if {_again('k')}][:1] in [[len(sensed()) - 1]] "
+          f"[k for k in {indices(100)}[:len(sensed())] if {_again('k')}][:1] in [[len(sensed()) - 1]] "
           f"+ ([[]] if explored_all() else [])"),
     _task("start_row_known", 2, check_start_row_known,
           "Explore until you know what every cell of the row you started in contains: all ten "
@@ -503,7 +489,7 @@ TASKS = [
           "stop.",
           f"sensed()[:1] == [{_S}] and all(primitives() == ['sense'] + ['navigate', 'sense'] * r "
           f"+ ['navigate'] * {_B} + ['navigate', 'sense'] * l + ['navigate'] * (1 if r > l else "
-          f"0) and all(moves()[k] == {_ARM} for k in {_k(20)}[:len(moves())]) and "
+          f"0) and all(moves()[k] == {_ARM} for k in {indices(20)}[:len(moves())]) and "
           f"{_blocked('a + r + 1', 'b')} and {_blocked('a - l - 1', 'b')} for a, b, r, l in "
           f"[({_S0}, {_S1}, max(sensed())[0] - {_S0}, {_S0} - min(sensed())[0])])"),
     _task("spiral_search", 3, check_spiral_search,
@@ -525,7 +511,7 @@ TASKS = [
           f"sensed()[-1:] != [] and explored_all() and all(primitives()[-m - 1:] == ['sense'] + "
           f"['navigate'] * m and sorted({_TOUR_T} + ([h] if is_goal(h) else [])) == "
           f"reachable_goals() and all({_dist(f'{_TOUR_P}[k]', f'{_TOUR_T}[k]')} <= "
-          f"{_dist(f'{_TOUR_P}[k]', 'g')} for k in {_k(10)}[:m] for g in {_TOUR_T}[k:]) for h, "
+          f"{_dist(f'{_TOUR_P}[k]', 'g')} for k in {indices(10)}[:m] for g in {_TOUR_T}[k:]) for h, "
           f"m in [(sensed()[-1], len(reachable_goals()) - (1 if is_goal(sensed()[-1]) else 0))])"),
     _task("upward_survey", 3, check_upward_survey,
           "Survey upward without ever moving down. Sense, then move and sense again as often as "
@@ -534,7 +520,7 @@ TASKS = [
           "cell you know to be free in the row you stand in or in any row above it may have a "
           "cell next to it that you do not know yet.",
           f"{_LINE} and len(moves()) <= 100 and all(moves()[k][1] >= {_Q}[1] for k in "
-          f"{_k(100)}[:len(moves())]) and all(n in known_cells() for c in known_cells() if "
+          f"{indices(100)}[:len(moves())]) and all(n in known_cells() for c in known_cells() if "
           "c[1] >= final_cell()[1] and not is_obstacle(c) for n in neighbours(c))"),
     _task("odd_scoops_60g", 1, check_odd_scoops_60g,
           f"Scoop an odd number of times -- once, three times or five times -- so that the "

@@ -139,6 +139,33 @@ def same_steps(steps: list, want: list) -> str | None:
     return None if steps == want else f"ran {steps[:10]}, not {want[:10]}"
 
 
+def label_sensed(state: GridState, known: np.ndarray, step: tuple[str, Cell]) -> int:
+    """Mark what a sense step labels in ``known``; return how many cells it labelled that no
+    earlier sense had (0 for a move)."""
+    if step[0] != "sense":
+        return 0
+    fresh = [n for n in sensed_cells(state, step[1]) if not known[n]]
+    for n in fresh:
+        known[n] = True
+    return len(fresh)
+
+
+def indices(n: int) -> str:
+    """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
+    return "[" + ", ".join(str(k) for k in range(n)) + "]"
+
+
+def held_out_task(references: Path) -> Callable[..., Task]:
+    """The task maker of a held-out set whose references lie in ``references``: ``(name,
+    difficulty, check, description, promise, env_id)``, the reference ``<name>.json``, no library
+    behaviors."""
+    def task(name: str, difficulty: int, check: Check, description: str, promise: str,
+             env_id: str = ENV_ID) -> Task:
+        return Task(name, description, difficulty, False, references / f"{name}.json", check,
+                    promise, env_id)
+    return task
+
+
 def reachable(state: GridState) -> np.ndarray:
     """Cells of the start cell's free component in the true map (a boolean grid)."""
     return state.component == state.component[state.start_cell]
