@@ -74,6 +74,8 @@ def main() -> None:
                         default=["plain", "sleeping", "default"])
     parser.add_argument("--workers", type=int, default=1)
     args = parser.parse_args()
+    if args.seeds < 2 or args.workers < 1:
+        parser.error("--seeds takes 2 or more (a spread needs two), --workers 1 or more")
     print(f"machine: {platform.machine()}, {os.cpu_count()} CPUs, Python "
           f"{platform.python_version()}; {args.seeds} scoops per physics (reset seeds 0..)\n")
     print("| physics | scooped g | delivered g | spilled g | certificates | s per scoop |")

@@ -290,3 +290,17 @@ def test_the_shipped_behavior_senses_from_the_envs_pose():
     shipped = json.loads((Path(vlb_gym.__file__).parent / "behaviors" /
                           "scoop_repeatedly.json").read_text())
     assert shipped["variables"]["sensing_pose"] == SENSING_POSE_EXPRESSION
+
+
+@pytest.mark.parametrize("arguments", [["--workers", "0"], ["--seeds", "1"], ["--seeds", "-5"]])
+def test_the_physics_benchmark_refuses_counts_it_cannot_run_in_one_line(arguments):
+    """``benchmarks/scoop_physics.py`` refuses a worker count below 1 and fewer than 2 seeds
+    (no spread) before any scoop runs: exit 2, argparse's error line, no traceback."""
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "scoop_physics.py"
+    out = subprocess.run([sys.executable, str(script), *arguments], capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 2
+    assert out.stderr.strip().splitlines()[-1] == (
+        "scoop_physics.py: error: --seeds takes 2 or more (a spread needs two), --workers 1 or "
+        "more")
+    assert "Traceback" not in out.stderr and out.stdout == ""
