@@ -21,13 +21,14 @@ from vlb_gym.abstractor.beliefs import MAX_READINGS, numbers, readings, witnesse
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
-from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program
+from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program, Set
 from vlb_gym.abstractor.search import (MAX_ORDERS, MAX_PROBES, PROBES, Found, Search,
                                         named_from_here, said)
 from vlb_gym.abstractor.terms import Vocabulary, contexts
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.spec import Promise, spec_from_data
+from vlb_gym.envs.grid_explore.types import GOAL
 from vlb_gym.verify import run_episode
 from vlb_gym.wrappers import RobustnessWrapper
 from vlb_gym.verify.campaign import episode_seed
@@ -227,6 +228,80 @@ def test_memory_of_visits_is_searched_and_written_as_the_runtime_runs_it():
                                 for e in entering)
         assert document["variables"][CHOSEN] == "current_cell()"
         assert search.rescreen(document) is None  # the runtime chooses as the executor did
+    finally:
+        search.close()
+
+
+# heldout11's two_more_looks_then_goal (development data since its one run): the goal in view
+# when exploring stopped, remembered while the agent looks twice more, then gone onto
+ANYTHING = Promise(expr="len(primitives()) >= 0")
+LOOK_AGAIN = Program((
+    Act("sense", "current_cell()"),
+    Loop("not goal_found()", (Act("navigate", "frontier_cells()[-1]"),
+                              Act("sense", "current_cell()"))),
+    Set("mark", "goal_cell()"),
+    Loop("True", (Act("navigate", "frontier_cells()[-1]"), Act("sense", "current_cell()")), 2),
+    If("mark != current_cell()", (Act("navigate", "mark"),))))
+
+
+def test_a_remembered_cell_is_set_where_the_program_sets_it_and_read_after():
+    search = Search(GRID_ID, ANYTHING, screen_seed=5)
+    try:
+        statements = search.statements()
+        (cost,) = [t.cost for t in statements.bank.of("cell") if t.text == "goal_cell()"]
+        assert Set("mark", "goal_cell()") in statements.at(cost + 1)  # 1 + its value's cost
+        assert all(s.name == "mark" and s.value not in ("mark", "home", "path")
+                   for s in statements.sets(2) + statements.sets(3))
+        document = search.document(Found(LOOK_AGAIN, 0), "look_again", "")
+        assert document["variables"]["mark"] == "current_cell()"
+        into_looks = [e for e in document["edges"] if e["to"] == "s3_0"
+                      and e["from"] in ("s0", "s1_1")]
+        assert into_looks and all(e["set"]["mark"] == "goal_cell()" for e in into_looks)
+        skipping = [e for e in document["edges"] if e["to"] == "s4_0" and e["from"] == "s1_1"]
+        assert skipping[0]["guard"] == "(goal_cell()) != current_cell()"  # read before the set
+        looked = [e for e in document["edges"] if e["to"] == "s4_0" and e["from"] == "s3_1"]
+        assert looked[0]["guard"] == "mark != current_cell()" and "mark" not in looked[0]["set"]
+        unread = search.document(Found(Program(LOOK_AGAIN.statements[:2]), 0), "explore", "")
+        assert "mark" not in unread["variables"]  # a settable variable only where it is read
+        for seed in search.seeds[:10]:  # it ends on the goal it remembered
+            run = search._run(seed, LOOK_AGAIN.statements)
+            assert run.status != "failed", run.reason
+            search.interface.load(run.saved)
+            state, mark = search.interface.state, run.variables["mark"]
+            assert state.truth[mark] == GOAL and state.cell == mark
+        assert search.rescreen({**document, "promise": ANYTHING.model_dump()}) is None
+    finally:
+        search.close()
+
+
+# heldout12's two_goals_nearer_home (development data since its one run): what the search found
+# there, whose guards together hold six comprehension loops where an expression may hold three
+NEARER = ("sorted([(p0 not in explored(), abs(p0[0] - home[0]) + abs(p0[1] - home[1]), "
+          "any((p0 == p1 or p0 in adjacent(p1) for p1 in path[:-1])), p0) for p0 in "
+          "[k for k in explored() if label(k) == 'goal']])")
+NEARER_GOAL = Program((
+    Act("sense", "current_cell()"),
+    Loop(f"not (len({NEARER}) >= 2)", (Act("navigate", "frontier_cells()[-1]"),
+                                       Act("sense", "current_cell()"))),
+    If(f"{NEARER}[0][3] != current_cell()", (Act("navigate", f"{NEARER}[0][3]"),))))
+
+
+def test_guards_that_do_not_fit_one_expression_are_written_as_functions():
+    from benchmarks.synthesis_eval import load_tasks
+
+    (task,) = [t for t in load_tasks(ROOT / "benchmarks" / "heldout12" / "tasks.py")
+               if t.name == "two_goals_nearer_home"]
+    search = Search(GRID_ID, Promise(expr=task.promise), task.description,
+                    screen_seed=3264662442234128395)  # the run's screening episodes
+    try:
+        assert search.keeps(NEARER_GOAL)
+        document = search.document(Found(NEARER_GOAL, 0), "nearer_goal", "")
+        functions = document["functions"]
+        assert functions and all(f["args"] == [] for f in functions.values())
+        assert f"{NEARER}[0][3] != current_cell()" in {f["expr"] for f in functions.values()}
+        assert search.rescreen(document) is None  # it compiles, and runs as it was found
+        plain = search.document(Found(Program(NEARER_GOAL.statements[:2]), 0), "explore", "")
+        assert "functions" not in plain  # guards that fit are written as they are
     finally:
         search.close()
 

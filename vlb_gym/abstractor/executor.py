@@ -28,7 +28,7 @@ from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import (Act, If, Statement, Use, _list_of, _substitute, chosen_first,
+from .programs import (Act, If, Set, Statement, Use, _list_of, _substitute, chosen_first,
                        memory_updates)
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
@@ -187,6 +187,12 @@ class Executor:
     def _statement(self, run: Run, statement: Statement, index: int) -> None:
         observation = self.interface.observation()
         namespace = self._namespace(observation, run)
+        if isinstance(statement, Set):  # (one that cannot be evaluated fails the run, where
+            try:  # the behavior file would fail only if it acted again: stricter, never laxer)
+                run.variables[statement.name] = self._value(statement.value, namespace)
+            except _Failed as exc:
+                raise _Failed(f"{statement.words()}: {exc}") from None
+            return
         if isinstance(statement, Use):
             self._act(run, statement, namespace)
             return

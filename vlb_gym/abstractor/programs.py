@@ -2,12 +2,14 @@
 
 The search (:mod:`vlb_gym.abstractor.search`) enumerates :class:`Program` s: a first
 primitive, then statements, each an :class:`Act` (run a primitive with a parameter
-expression), an :class:`If` (run its acts when a guard holds) or a :class:`Loop` (run its acts
-while a guard holds, at most ``limit`` times when it has one). :meth:`Program.document`
+expression), an :class:`If` (run its acts when a guard holds), a :class:`Loop` (run its acts
+while a guard holds, at most ``limit`` times when it has one) or a :class:`Set` (give a
+settable memory variable a value: remember something now). :meth:`Program.document`
 writes the behavior file that does exactly that: one node per act, edges whose guards, in
-file order, pick the next act, the env's memory variables kept on the way, and a counter
-per loop with a limit. Every node is terminal: where no edge can be taken the behavior has
-finished, and its promise is judged.
+file order, pick the next act, the env's memory variables kept on the way (a settable one only
+where the program reads it), a set variable assigned on the edges that leave the point it
+is set at, and a counter per loop with a limit. Every node is terminal: where no edge can be
+taken the behavior has finished, and its promise is judged.
 
 An act whose parameter picks from a list (``L[0]``, ``L[-1]``, ``L[argmin(...)]``) is entered
 only when the list is not empty: a loop that moves to the first of a list runs until the list
@@ -23,6 +25,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
+from vlb_gym.core.expressions import MAX_GENERATORS, MAX_NODES, MAX_SOURCE_CHARS
 from vlb_gym.core.search_space import SearchSpace
 
 END = "<end>"
@@ -79,7 +82,18 @@ class Loop:
         return f"{head}: " + "; ".join(a.words() for a in self.body)
 
 
-Statement = Act | Use | If | Loop
+@dataclass(frozen=True)
+class Set:
+    """Give the settable memory variable ``name`` the value of ``value`` (no primitive runs)."""
+
+    name: str
+    value: str
+
+    def words(self) -> str:
+        return f"{self.name} = {self.value}"
+
+
+Statement = Act | Use | If | Loop | Set
 
 
 @dataclass(frozen=True)
@@ -95,6 +109,18 @@ class Program:
                  ) -> dict[str, Any]:
         """The behavior file of this program (see the module's docstring)."""
         return _Writer(self, space).document(name, description, env_id)
+
+
+@lru_cache(maxsize=65536)
+def reads(statement: Statement, names: frozenset[str]) -> bool:
+    """Whether ``statement`` reads one of the variables ``names``."""
+    words = statement.words()
+    return any(_mentions(words, name) for name in names)
+
+
+def acts(program: tuple[Statement, ...]) -> int:
+    """The statements of ``program`` that act (all but its :class:`Set` s)."""
+    return sum(not isinstance(s, Set) for s in program)
 
 
 def memory_updates(space: SearchSpace, primitive: str) -> list[tuple[str, str]]:
@@ -131,9 +157,18 @@ def _list_of(param: str) -> str | None:
     return None
 
 
+def _name(name: str) -> str:
+    """A pattern of ``name`` as a whole name (not inside another, nor a string's words)."""
+    return rf"(?<![\w']){re.escape(name)}(?![\w'])"
+
+
+def _mentions(text: str, name: str) -> bool:
+    return re.search(_name(name), text) is not None
+
+
 def _substitute(text: str, name: str, value: str) -> str:
     """``text`` with the name ``name`` replaced by the expression ``value``."""
-    return re.sub(rf"(?<![\w']){re.escape(name)}(?![\w'])", f"({value})", text)
+    return re.sub(_name(name), f"({value})", text)
 
 
 def conjunction(conditions: list[str]) -> str:
@@ -156,10 +191,45 @@ def _loose(text: str) -> bool:
                                            and isinstance(node.op, ast.Or))
 
 
+def _guard(negated: list[list[str]], conditions: list[str], functions: dict[str, str]) -> str:
+    """The guard "none of ``negated`` holds, and ``conditions`` do". Where that breaks a limit
+    of the expression language (comprehension loops, syntax nodes, length: conditions checked
+    one by one in the search may not fit together), each condition with a comprehension is
+    held in a function of the behavior (``functions``: condition -> name, added to) and called
+    by name: the language checks each function's expression on its own."""
+    def written(name: Any) -> str:
+        return conjunction([f"not ({conjunction([name(c) for c in cs])})" for cs in negated]
+                           + [name(c) for c in conditions])
+
+    plain = written(lambda c: c)
+    if _fits(plain):
+        return plain
+
+    def held(condition: str) -> str:
+        if not _loops(condition):
+            return condition
+        return f"{functions.setdefault(condition, f'condition{len(functions) + 1}')}()"
+    return written(held)
+
+
+def _loops(text: str) -> int:
+    """The comprehension loops of the expression ``text``."""
+    return sum(len(node.generators) for node in ast.walk(ast.parse(text, mode="eval"))
+               if isinstance(node, (ast.ListComp, ast.GeneratorExp)))
+
+
+def _fits(text: str) -> bool:
+    """Whether the expression ``text`` keeps the expression language's limits of size."""
+    tree = ast.parse(text, mode="eval")
+    return (len(text) <= MAX_SOURCE_CHARS and sum(1 for _ in ast.walk(tree)) <= MAX_NODES
+            and _loops(text) <= MAX_GENERATORS)
+
+
 class _Writer:
     def __init__(self, program: Program, space: SearchSpace):
         self.statements = program.statements
         self.space = space
+        self.settable = {m.name for m in space.memory if m.settable}
         first = self.statements[0]
         if not isinstance(first, (Act, Use)):
             raise ValueError("a program begins with an act or a library behavior")
@@ -176,6 +246,8 @@ class _Writer:
     def _acts(self) -> list[tuple[str, Act | Use]]:
         out = [("s0", self.statements[0])]
         for k, statement in enumerate(self.statements[1:], 1):
+            if isinstance(statement, Set):
+                continue
             body = (statement,) if isinstance(statement, (Act, Use)) else statement.body
             out += [(self._node(k, j), act) for j, act in enumerate(body)]
         return out
@@ -185,6 +257,10 @@ class _Writer:
         if k == len(self.statements):
             return [([], [], END)]
         statement = self.statements[k]
+        if isinstance(statement, Set):  # what follows, its guards read before the assignment
+            return [([_substitute(c, statement.name, statement.value) for c in conditions],
+                     [(statement.name, statement.value), *assignments], node)
+                    for conditions, assignments, node in self._enter(k + 1)]
         if isinstance(statement, Use):
             return [([], [], self._node(k))]
         if isinstance(statement, Act):
@@ -216,6 +292,14 @@ class _Writer:
             return self._loop(k)
         return self._enter(k + 1)
 
+    def _before(self, condition: str, assignments: list[tuple[str, str]]) -> str:
+        """``condition`` read before ``assignments``: the values of the set variables among
+        them in place of their names (a guard is evaluated before its edge assigns)."""
+        for name, value in reversed(assignments):
+            if name in self.settable:
+                condition = _substitute(condition, name, value)
+        return condition
+
     def _updates(self, act: Act | Use) -> list[tuple[str, str]]:
         """The assignments entering ``act``: the memory it updates. A parameter chosen before
         that memory (:func:`chosen_first`) is assigned to :data:`CHOSEN` first (the runtime
@@ -231,23 +315,25 @@ class _Writer:
     def document(self, name: str, description: str, env_id: str) -> dict[str, Any]:
         acts = dict(self._acts())
         edges = []
+        functions: dict[str, str] = {}  # condition -> the name of the function that holds it
         for source, act in self._acts():
             k, j = (0, 0) if source == "s0" else map(int, source[1:].split("_"))
-            negated: list[str] = []
+            negated: list[list[str]] = []
             for conditions, assignments, target in self._after(k, j):
                 if target == END:
                     if not conditions:
                         break
-                    negated.append(f"not ({conjunction(conditions)})")
+                    negated.append(conditions)
                     continue
                 to = acts[target]
-                guard = [*negated, *conditions]
+                conditions = list(conditions)
                 picked = None if isinstance(to, Use) else _list_of(to.param)
                 if picked is not None:
-                    guard.append(f"len({picked}) > 0")
+                    conditions.append(self._before(f"len({picked}) > 0", assignments))
                 edge: dict[str, Any] = {"from": source, "to": target}
-                if conjunction(guard) != "True":
-                    edge["guard"] = conjunction(guard)
+                guard = _guard(negated, conditions, functions)
+                if guard != "True":
+                    edge["guard"] = guard
                 sets = dict(assignments + self._updates(to))
                 if isinstance(to, Act):
                     edge["param"] = CHOSEN if CHOSEN in sets else to.param
@@ -256,7 +342,10 @@ class _Writer:
                 edges.append(edge)
         first = self.statements[0]
         variables = {}
-        for memory in self.space.memory:
+        read = " ".join(s.words() for s in self.statements)
+        for memory in sorted(self.space.memory, key=lambda m: not m.settable):  # set ones
+            if memory.settable and not _mentions(read, memory.name):  # first: the others'
+                continue  # initial values may read them (the first act's parameter)
             initial = memory.initial
             for primitive, update in memory.updates:
                 if isinstance(first, Act) and primitive == first.primitive:
@@ -268,8 +357,10 @@ class _Writer:
                 variables[f"n{k}"] = "0"
         if any(isinstance(act, Act) and chosen_first(self.space, act) for _, act in self._acts()):
             variables[CHOSEN] = self.space.here[1]  # type: ignore[index]
+        named = {"functions": {function: {"args": [], "expr": condition}
+                               for condition, function in functions.items()}} if functions else {}
         return {"name": name, "description": description, "env": env_id,
-                "variables": variables,
+                "variables": variables, **named,
                 "nodes": [{"id": node, "behavior": act.behavior} if isinstance(act, Use) else
                           {"id": node, "primitive": act.primitive} for node, act in acts.items()],
                 "edges": edges,

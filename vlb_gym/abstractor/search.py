@@ -48,7 +48,7 @@ from vlb_gym.wrappers.robustness import RobustnessWrapper
 
 from .beliefs import literals, numbers, readings
 from .executor import FAILED, OPEN, Executor, Run
-from .programs import Act, Program, Statement
+from .programs import Act, Loop, Program, Set, Statement, acts, reads
 from .statements import Statements
 from .terms import BOUND, Bank, Vocabulary, call_name, conforms, contexts, infer_kind
 
@@ -185,6 +185,7 @@ class Search:
         self.executor = Executor(self.interface, space, promise,
                                  min([b for b in bounds if b] or [10_000]), self._behaviors())
         self.tally = Tally()
+        self._settable = {m.name for m in space.memory if m.settable}
         self._cheap = cheap
         self._statements: Statements | None = None
 
@@ -364,7 +365,7 @@ class Search:
                 if child is None:
                     continue
                 grown = [child]
-                if len(child.program) < MAX_STATEMENTS and any(
+                if acts(child.program) < MAX_STATEMENTS and any(
                         r.status == OPEN for r in child.runs):
                     heapq.heappush(heap, (child.priority(1), next(order), child, 1, 0))
                     grown += [done for act in (completions if child.program else ())
@@ -399,7 +400,17 @@ class Search:
     def _child(self, node: _Node, statement: Statement, cost: int, seen: set[Any]
                ) -> _Node | None:
         """``node`` extended by ``statement``, run on the probe episodes; None if it fails
-        one of them, or acts as its parent or as a program already seen."""
+        one of them, or acts as its parent or as a program already seen, or is a setting
+        anywhere but right after a loop (what held when it ended: where a program has
+        something to remember that no memory holds) or a program's second, or reads a
+        settable variable the program has not set (it would read its initial value)."""
+        unset = self._settable.difference(s.name for s in node.program if isinstance(s, Set))
+        if isinstance(statement, Set):
+            if not (node.program and isinstance(node.program[-1], Loop)
+                    and len(unset) == len(self._settable)):
+                return None
+        elif unset and reads(statement, frozenset(unset)):
+            return None
         self.tally.built += 1
         index = len(node.program)
         runs = []

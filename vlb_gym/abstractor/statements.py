@@ -14,7 +14,8 @@ costs 1 more. So does a loop over a list (1 plus its acts) ended early by any co
 cost 1 ("explore until a goal is in sight"), and 1 more again after at most ``k`` rounds, ``k``
 a number the request or promise gives ("but give up after five moves").
 Bodies hold one to :data:`MAX_BODY` acts. A library behavior, run whole, is a statement of
-cost :data:`USE`. :meth:`Statements.at` lists those of one cost,
+cost :data:`USE`; setting a settable memory variable to a term of its kind ("remember the goal
+in view now"), :data:`SET` plus the term (the search sets one once, right after a loop). :meth:`Statements.at` lists those of one cost,
 computed once and capped at :data:`MAX_PER_COST`.
 """
 
@@ -26,13 +27,14 @@ from typing import Any
 
 from vlb_gym.core.search_space import Parameter, SearchSpace
 
-from .programs import Act, If, Loop, Statement, Use, _list_of, conjunction
+from .programs import Act, If, Loop, Set, Statement, Use, _list_of, _mentions, conjunction
 from .terms import Bank, Term, negation
 
 MAX_BODY = 3
 MAX_PER_COST = 40_000
 GUARD = 2  # what a guard that is not a reading of the promise costs more
 USE = 2  # what running a library behavior costs
+SET = 1  # what setting a memory variable costs, besides its value
 
 
 class Statements:
@@ -111,6 +113,7 @@ class Statements:
         yield from self.acts(cost)
         if cost == USE:
             yield from (Use(b) for b in self.behaviors)
+        yield from self.sets(cost)
         families = [self._compound(cost, length) for length in range(1, MAX_BODY + 1)]
         while families:
             for family in list(families):
@@ -119,6 +122,14 @@ class Statements:
                     families.remove(family)
                 else:
                     yield statement
+
+    def sets(self, cost: int) -> list[Set]:
+        """Settings of ``cost`` of the settable memory variables: to a term of their kind that
+        is not a memory variable (whose value it would copy) nor reads the variable set."""
+        memory = {m.name for m in self.space.memory}
+        return [Set(m.name, t.text) for m in self.space.memory if m.settable
+                for t in self.bank.of(m.kind, 0, cost - SET)
+                if t.text not in memory and not _mentions(t.text, m.name)]
 
     def _idioms(self, cost: int) -> list[Statement]:
         """Loops and conditionals of ``cost`` guarded by their first act itself: while it can

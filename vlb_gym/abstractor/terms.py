@@ -555,7 +555,9 @@ def contexts(env: Any, space: SearchSpace, seeds: list[int], steps: int = 48,
     """Decision contexts from short random rollouts of ``env`` (a PrimitiveEnv, unwrapped) on
     ``seeds``: each step runs a random primitive with a random admissible parameter (the fixed
     one where the space fixes it); the observation after each step in ``keep`` is a context,
-    with the memory's values along the rollout. The rollouts run ``space.context_steps``
+    with the memory's values along the rollout (a settable one's: its initial value half-way
+    through the rollout so far, a moment the behavior chose to remember). The rollouts run
+    ``space.context_steps``
     primitives in all (at most ``steps`` each); once those are spent, a rollout gives its reset
     observation only."""
     import numpy as np
@@ -566,10 +568,11 @@ def contexts(env: Any, space: SearchSpace, seeds: list[int], steps: int = 48,
         rng = np.random.default_rng(seed)
         observation, _ = env.reset(seed=seed)
         memory = _memory_start(env, space, observation)
+        marks = [{m.name: memory[m.name] for m in space.memory if m.settable}]
         for step in range(steps + 1):
             if step in keep:
                 out.append(Context({**builtins_namespace(), **_bound(env, observation),
-                                    **memory}))
+                                    **memory, **marks[step // 2]}))
             if step == steps or left <= 0:
                 break
             choice = _random_action(env, space, observation, rng)
@@ -581,6 +584,9 @@ def contexts(env: Any, space: SearchSpace, seeds: list[int], steps: int = 48,
             if not info["certificate"]:
                 break
             _memory_update(env, space, memory, primitive, param, observation)
+            if marks[0]:
+                start = _memory_start(env, space, observation)
+                marks.append({name: start[name] for name in marks[0]})
     return out
 
 

@@ -13,7 +13,9 @@ and holds no table of its own about any env. An env that can be synthesized for 
   expressions only (a primitive whose one admissible parameter is known);
 * ``constants``: expressions of a type worth trying (a pose that sees the containers);
 * ``memory``: variables every searched behavior keeps, with their initial value and how a
-  primitive updates them (where the agent started, where it has been);
+  primitive updates them (where the agent started, where it has been); a *settable* one a
+  behavior may also set, between two statements, to any expression of its kind (a mark: the
+  goal in view when exploring stopped, remembered while the agent looks further);
 * ``witnesses``: the least behaviors of the env, in words, against which a promise is tried
   before any search (a promise they keep asks for nothing);
 * ``beliefs``: for an outcome helper a promise may use, what the agent believes of it, as a
@@ -59,13 +61,15 @@ class Parameter:
 class Memory:
     """A variable every searched behavior keeps: its ``kind``, its ``initial`` expression, and
     for a primitive, how running it updates the variable (an expression in which ``PARAM``
-    stands for the parameter just chosen)."""
+    stands for the parameter just chosen). A ``settable`` one a behavior may also set to any
+    expression of its kind between two statements."""
 
     name: str
     kind: str
     initial: str
     updates: tuple[tuple[str, str], ...] = ()
     description: str = ""
+    settable: bool = False
 
 
 @dataclass(frozen=True)

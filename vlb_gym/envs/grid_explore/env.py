@@ -130,7 +130,8 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
 
     def search_space(self) -> SearchSpace:
         """Cells are the one type; ``sense`` takes the agent's cell, ``navigate`` any cell;
-        behaviors remember where they began (``home``) and where they have stood (``path``)."""
+        behaviors remember where they began (``home``), where they have stood (``path``) and a
+        cell they chose to (``mark``)."""
         return SearchSpace(
             types={"cell": Cell},
             parameters=(Parameter("sense", fixed=("current_cell()",)),
@@ -141,7 +142,10 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                     Memory("path", "list[cell]", "[current_cell()]",
                            (("navigate", "path + [PARAM]"),),
                            "the cells the agent has stood in: the start, then each cell it "
-                           "moved to")),
+                           "moved to"),
+                    Memory("mark", "cell", "current_cell()",
+                           description="a cell the behavior chose to remember (at first, the "
+                           "start)", settable=True)),
             witnesses=(Witness("stop at once, doing nothing"),
                        Witness("sense once where it stands and stop",
                                (("sense", "current_cell()"),)),
