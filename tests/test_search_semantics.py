@@ -5,7 +5,7 @@ programs of the statement grammar, settings of the remembered cell ``mark`` amon
 from __future__ import annotations
 
 import gymnasium as gym
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from vlb_gym.abstractor.programs import Act, If, Loop, Program, Set
@@ -58,6 +58,8 @@ def runtime_steps(document, seed):
 
 @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(programs, st.integers(0, 2**32 - 1))
+@example(Program((SENSE, Set("mark", "frontier_cells()[0]"), Set("mark", "beside(mark, 'right')"),
+                  Act("navigate", "mark"))), 0)  # a setting that reads the one before it
 def test_the_executor_and_the_runtime_agree(program, seed):
     search = Search(GRID_ID, ANYTHING, screen_seed=1)
     search.executor.max_steps = 500  # the env's own bound, as the runtime has it

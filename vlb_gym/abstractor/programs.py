@@ -258,8 +258,10 @@ class _Writer:
             return [([], [], END)]
         statement = self.statements[k]
         if isinstance(statement, Set):  # what follows, its guards read before the assignment
-            return [([_substitute(c, statement.name, statement.value) for c in conditions],
-                     [(statement.name, statement.value), *assignments], node)
+            name, value = statement.name, statement.value  # (a later setting of the same
+            return [([_substitute(c, name, value) for c in conditions],  # name from it: an
+                     [(name, value), *[(n, _substitute(e, name, value) if n == name else e)
+                                       for n, e in assignments]], node)  # edge sets a name once)
                     for conditions, assignments, node in self._enter(k + 1)]
         if isinstance(statement, Use):
             return [([], [], self._node(k))]
