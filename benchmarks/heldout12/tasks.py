@@ -102,11 +102,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (distance, exhausted, first_goal_sense, free_cell,
-                                        grams_in_receiver, grams_spilled, held_out_task, indices,
-                                        known_after, neighbours, obstacles_beside, on_grid,
-                                        reachable, same_steps, scoops, sensed_cells, step_by,
-                                        steps_of)
+from benchmarks.synthesis_tasks import (distance, distance_text, exhausted, first_goal_sense,
+                                        free_cell, goals_shown, grams_in_receiver, grams_spilled,
+                                        held_out_task, indices, known_after, neighbours,
+                                        obstacles_beside, on_grid, onto, reachable, same_steps,
+                                        scoops, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -114,19 +114,6 @@ SCOOP = "VLB-Scoop-v0"
 RIGHT, LEFT, UP, DOWN = (1, 0), (-1, 0), (0, 1), (0, -1)
 
 
-def _goals_shown(state, here) -> list:
-    """The goals a sense at ``here`` shows."""
-    return [g for g in sensed_cells(state, here) if state.truth[g] == GOAL]
-
-
-def _onto(rest, here, targets, what: str) -> str | None:
-    """None if the steps ``rest`` are nothing (the agent stands in ``here``, one of
-    ``targets``) or one move onto one of ``targets`` (it does not); else why not."""
-    if here in targets:
-        return same_steps(rest, [])
-    if len(rest) == 1 and rest[0][0] == "navigate" and rest[0][1] in targets:
-        return None
-    return f"{what} ran {rest[:4]}, not one move onto one of {targets[:6]}"
 
 
 def _last_sense(steps) -> int | None:
@@ -143,7 +130,7 @@ def _after_exploring(state, steps, targets_of) -> str | None:
     if last is None:
         return "never sensed"
     here = steps[last][1]
-    return _onto(steps[last + 1:], here, targets_of(here), "after the last sense")
+    return onto(steps[last + 1:], here, targets_of(here), "after the last sense")
 
 
 def _line(state, way, stop=None):
@@ -224,8 +211,8 @@ def check_obstacle_parity_goal(state, result):
     here, rest = steps[index][1], steps[index + 1:]
     known = known_after(state, result.steps[:index + 1])
     if int((known & (state.truth == OBSTACLE)).sum()) % 2 == 0:
-        return _onto(rest, here, _goals_shown(state, here), "after the goal came into view")
-    return _onto(rest, here, [state.start_cell], "after the goal came into view")
+        return onto(rest, here, goals_shown(state, here), "after the goal came into view")
+    return onto(rest, here, [state.start_cell], "after the goal came into view")
 
 
 def check_aligned_goal(state, result):
@@ -237,9 +224,9 @@ def check_aligned_goal(state, result):
     for index, (kind, here) in enumerate(steps):
         if kind != "sense":
             continue
-        lined = [g for g in _goals_shown(state, here) if home[0] == g[0] or home[1] == g[1]]
+        lined = [g for g in goals_shown(state, here) if home[0] == g[0] or home[1] == g[1]]
         if lined:
-            return _onto(steps[index + 1:], here, lined, "after the goal came into view")
+            return onto(steps[index + 1:], here, lined, "after the goal came into view")
     return _after_exploring(state, steps, lambda here: [home])
 
 
@@ -253,10 +240,10 @@ def check_two_goals_nearer_home(state, result):
     for index, (kind, here) in enumerate(steps):
         if kind != "sense":
             continue
-        seen += [g for g in _goals_shown(state, here) if g not in seen]
+        seen += [g for g in goals_shown(state, here) if g not in seen]
         if len(seen) >= 2:
             near = min(distance(g, home) for g in seen)
-            return _onto(steps[index + 1:], here, [g for g in seen if distance(g, home) == near],
+            return onto(steps[index + 1:], here, [g for g in seen if distance(g, home) == near],
                          "after the second goal came into view")
     return _after_exploring(state, steps, lambda here: seen)
 
@@ -274,7 +261,7 @@ def check_single_step_search(state, result):
     if index is None:
         return "no goal seen"
     here = steps[index][1]
-    return _onto(steps[index + 1:], here, _goals_shown(state, here),
+    return onto(steps[index + 1:], here, goals_shown(state, here),
                  "after the goal came into view")
 
 
@@ -286,7 +273,7 @@ def check_last_seen_goal(state, result):
     first: dict = {}
     for index, (kind, here) in enumerate(steps):
         if kind == "sense":
-            for g in _goals_shown(state, here):
+            for g in goals_shown(state, here):
                 first.setdefault(g, index)
     latest = max(first.values(), default=None)
     return _after_exploring(state, steps,
@@ -318,7 +305,7 @@ def check_both_sides_then_home(state, result):
             continue
         left, right = left or here[0] < home[0], right or here[0] > home[0]
         if left and right:
-            return _onto(steps[index + 1:], here, [home], "after sensing on both sides")
+            return onto(steps[index + 1:], here, [home], "after sensing on both sides")
     return _after_exploring(state, steps, lambda here: [home])
 
 
@@ -332,10 +319,10 @@ def check_goal_column_start_row(state, result):
     steps, home = steps_of(result), state.start_cell
     here, rest = steps[index][1], steps[index + 1:]
     known = known_after(state, result.steps[:index + 1])
-    for goal in _goals_shown(state, here):
+    for goal in goals_shown(state, here):
         corner = (goal[0], home[1])
         target = corner if known[corner] and state.truth[corner] != OBSTACLE else home
-        if _onto(rest, here, [target], "") is None:
+        if onto(rest, here, [target], "") is None:
             return None
     return f"after the goal came into view ran {rest[:4]}, not the move the goal's column asks"
 
@@ -382,9 +369,6 @@ _MOVE = "primitives()[-2:] == ['sense', 'navigate']"
 _K10, _K100 = indices(10), indices(100)
 
 
-def _dist(a: str, b: str) -> str:
-    return f"(abs({a}[0] - {b}[0]) + abs({a}[1] - {b}[1]))"
-
 
 def _blocked(x: str, y: str, edge: str) -> str:
     """The cell (x, y), one step off a cell of the grid, is outside it (``edge`` says when) or
@@ -408,8 +392,8 @@ def _aligned(c: str) -> str:
 
 # for each reachable goal: (not known, its distance to the start, shown by a sense before the
 # last, the goal), sorted: the known goals first, the nearest first
-_SEEN = f"sorted([(g not in known_cells(), {_dist('g', _S)}, any(g == s or g in neighbours(s) " \
-        f"for s in sensed()[:-1]), g) for g in reachable_goals()])"
+_SEEN = f"sorted([(g not in known_cells(), {distance_text('g', _S)}, any(g == s or g in " \
+        f"neighbours(s) for s in sensed()[:-1]), g) for g in reachable_goals()])"
 
 
 def _both(cells: str) -> str:
@@ -506,10 +490,10 @@ TASKS = [
           "still only one seen -- go onto that one and stop.",
           f"all((len(Y) >= 2 and not Y[1][0] and not sorted([Y[0][2], Y[1][2], len(Y) == 3 and "
           f"Y[-1][2]])[1] and is_goal({_F}) "
-          f"and {_F} in known_cells() and {_dist(_F, _S)} == Y[0][1] and ({_STAY} or ({_MOVE} "
-          f"and not (is_goal({_L}) and {_dist(_L, _S)} == Y[0][1])))) or (len(Y) == 1 and "
-          f"explored_all() and {_F} == Y[0][3] and ({_STAY} or ({_MOVE} and {_L} != {_F}))) for "
-          f"Y in [{_SEEN}])"),
+          f"and {_F} in known_cells() and {distance_text(_F, _S)} == Y[0][1] and ({_STAY} or "
+          f"({_MOVE} and not (is_goal({_L}) and {distance_text(_L, _S)} == Y[0][1])))) or "
+          f"(len(Y) == 1 and explored_all() and {_F} == Y[0][3] and ({_STAY} or ({_MOVE} and "
+          f"{_L} != {_F}))) for Y in [{_SEEN}])"),
     _task("single_step_search", 3, check_single_step_search,
           "Search for a goal, but move only one cell at a time: every move must end on a cell "
           "right next to (left, right, above or below) the cell you are standing in -- no "
@@ -540,7 +524,7 @@ TASKS = [
           "stop.",
           f"explored_all() and sensed()[-1:] != [] and all(({_STAY} and (Z[0][0], {_L}) in Z) "
           f"or ({_MOVE} and (Z[0][0], {_F}) in Z and (Z[0][0], {_L}) not in Z) for Z in "
-          f"[sorted([(sum([{_dist('c', 'g')} for g in reachable_goals()]), c) for c in "
+          f"[sorted([(sum([{distance_text('c', 'g')} for g in reachable_goals()]), c) for c in "
           f"reachable_cells()])])"),
     _task("both_sides_then_home", 2, check_both_sides_then_home,
           "Explore until you have sensed from at least one cell to the left of your starting "

@@ -105,11 +105,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (cell, distance, exhausted, first_goal_sense, first_reaching,
-                                        free_cell, free_neighbours, grams_in_receiver,
-                                        grams_spilled, held_out_task, indices, label_sensed,
-                                        obstacles_beside, on_grid, reachable, same_steps, scoops,
-                                        sensed_cells, step_by, steps_of)
+from benchmarks.synthesis_tasks import (cell, distance, distance_text, exhausted, first_goal_sense,
+                                        first_reaching, free_cell, free_neighbours, goals_shown,
+                                        grams_in_receiver, grams_spilled, held_out_task, indices,
+                                        label_sensed, obstacles_beside, on_grid, onto, reachable,
+                                        same_steps, scoops, sensed_cells, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -120,19 +120,6 @@ CLUTTER = 5  # obstacles shown before any goal that make goal_before_clutter giv
 BATTERY = 20  # units of battery_return
 
 
-def _goals_shown(state, here) -> list:
-    """The goals a sense at ``here`` shows."""
-    return [g for g in sensed_cells(state, here) if state.truth[g] == GOAL]
-
-
-def _onto(rest, here, targets, what: str) -> str | None:
-    """None if the steps ``rest`` are nothing (the agent stands in ``here``, one of
-    ``targets``) or one move onto one of ``targets`` (it does not); else why not."""
-    if here in targets:
-        return same_steps(rest, [])
-    if len(rest) == 1 and rest[0][0] == "navigate" and rest[0][1] in targets:
-        return None
-    return f"{what} ran {rest[:4]}, not one move onto one of {targets[:6]}"
 
 
 def _after_exploring(state, steps, targets) -> str | None:
@@ -144,7 +131,7 @@ def _after_exploring(state, steps, targets) -> str | None:
     if not senses:
         return "never sensed"
     here = steps[senses[-1]][1]
-    return _onto(steps[senses[-1] + 1:], here, targets, "after the last sense")
+    return onto(steps[senses[-1] + 1:], here, targets, "after the last sense")
 
 
 def _unknown(state):
@@ -167,7 +154,7 @@ def check_clear_start_search(state, result):
     if index is None:
         return "no goal seen"
     here = steps[index][1]
-    return _onto(steps[index + 1:], here, _goals_shown(state, here),
+    return onto(steps[index + 1:], here, goals_shown(state, here),
                  "after the goal came into view")
 
 
@@ -221,7 +208,7 @@ def check_retreat_from_goal(state, result):
     here, rest = steps[index][1], steps[index + 1:]
     if state.truth[here] == GOAL:
         return same_steps(rest, [])
-    for goal in _goals_shown(state, here):
+    for goal in goals_shown(state, here):
         way, c, plan = (here[0] - goal[0], here[1] - goal[1]), here, []
         while free_cell(state, step_by(c, way)):
             c = step_by(c, way)
@@ -280,7 +267,7 @@ def check_two_goal_vantage(state, result):
     start if there is no such cell (nothing if the agent stands on it)."""
     reach = reachable(state)
     spots = [c for c in (cell(c) for c in zip(*reach.nonzero()))
-             if len(_goals_shown(state, c)) >= 2]
+             if len(goals_shown(state, c)) >= 2]
     return _after_exploring(state, steps_of(result), spots or [state.start_cell])
 
 
@@ -295,11 +282,11 @@ def check_goal_before_clutter(state, result):
         if step[0] != "sense":
             continue
         here, rest = step[1], steps[index + 1:]
-        goals = _goals_shown(state, here)
+        goals = goals_shown(state, here)
         if goals:
-            return _onto(rest, here, goals, "after the goal came into view")
+            return onto(rest, here, goals, "after the goal came into view")
         if int((known & (state.truth == OBSTACLE)).sum()) >= CLUTTER:
-            return _onto(rest, here, [home], f"after the {CLUTTER}th obstacle came into view")
+            return onto(rest, here, [home], f"after the {CLUTTER}th obstacle came into view")
     return "no goal seen, and too few obstacles to give up"
 
 
@@ -313,7 +300,7 @@ def check_scout_goal_surroundings(state, result):
         label_sensed(state, known, step)
         if step[0] == "sense" and any(all(known[c] for c in sensed_cells(state, g))
                                       for g in goals):
-            return _onto(steps[index + 1:], step[1], [home],
+            return onto(steps[index + 1:], step[1], [home],
                          "after a goal's surroundings were known")
     return "no goal and its surroundings were ever all known"
 
@@ -339,7 +326,7 @@ def check_battery_return(state, result):
         if exhausted(state, known):
             return same_steps(rest, [])
         if used + distance(here, home) >= BATTERY:
-            return _onto(rest, here, [home], "once the reserve was reached")
+            return onto(rest, here, [home], "once the reserve was reached")
     return "the exploring ended before the reserve was reached or everything was known"
 
 
@@ -357,7 +344,7 @@ def check_report_each_goal(state, result):
         if kind == "navigate":
             continue
         label_sensed(state, known, (kind, c))
-        new = [g for g in _goals_shown(state, c) if g not in seen]
+        new = [g for g in goals_shown(state, c) if g not in seen]
         seen.update(new)
         rest = steps[index + 1:]
         report = [("navigate", home)] if new and c != home else []
@@ -376,7 +363,7 @@ def check_most_sighted_goal(state, result):
     counts: dict = {}
     for kind, here in steps:
         if kind == "sense":
-            for g in _goals_shown(state, here):
+            for g in goals_shown(state, here):
                 counts[g] = counts.get(g, 0) + 1
     most = max(counts.values(), default=0)
     return _after_exploring(state, steps, [g for g, n in counts.items() if n == most])
@@ -428,9 +415,6 @@ _TURNS = "primitives()[:2 * len(sensed()) - 1] == ['sense'] + ['navigate', 'sens
 _K10, _K20, _K100 = indices(10), indices(20), indices(100)
 
 
-def _dist(a: str, b: str) -> str:
-    return f"(abs({a}[0] - {b}[0]) + abs({a}[1] - {b}[1]))"
-
 
 def _on(x: str) -> str:
     """The cell ``x`` (possibly off the grid) is inside it."""
@@ -454,8 +438,8 @@ _RAY = f"({_S0} + (x % 9 + 1) * [0, 1, 0, -1][x // 9], {_S1} + (x % 9 + 1) * [1,
        f"[x // 9])"
 _RAY_BEFORE = f"({_S0} + m * [0, 1, 0, -1][x // 9], {_S1} + m * [1, 0, -1, 0][x // 9])"
 _BEFORE = "any(o == s or o in neighbours(s) for s in sensed()[:-1])"  # o shown before the last
-_USED = f"k + 1 + sum([{_dist('sensed()[m]', 'sensed()[m + 1]')} for m in {_K20}[:k]]) + " \
-        f"{_dist('sensed()[k]', _S)}"  # units used after the sense k, and the way home
+_USED = f"k + 1 + sum([{distance_text('sensed()[m]', 'sensed()[m + 1]')} for m in {_K20}[:k]]) + " \
+        f"{distance_text('sensed()[k]', _S)}"  # units used after the sense k, and the way home
 _FIRST_SEEN = f"[min([k for k in {_K100}[:len(sensed())] if {_shows('k', 'g')}] + [1000]) " \
               f"for g in reachable_goals()]"  # each reachable goal's first sense (1000: none)
 _N_LAST = "(len(sensed()) - 1)"

@@ -150,6 +150,26 @@ def label_sensed(state: GridState, known: np.ndarray, step: tuple[str, Cell]) ->
     return len(fresh)
 
 
+def goals_shown(state: GridState, here: Cell) -> list[Cell]:
+    """The goals a sense at ``here`` shows."""
+    return [g for g in sensed_cells(state, here) if state.truth[g] == GOAL]
+
+
+def onto(rest: list, here: Cell, targets: list, what: str) -> str | None:
+    """None if the steps ``rest`` are nothing (the agent stands in ``here``, one of
+    ``targets``) or one move onto one of ``targets`` (it does not); else why not."""
+    if here in targets:
+        return same_steps(rest, [])
+    if len(rest) == 1 and rest[0][0] == "navigate" and rest[0][1] in targets:
+        return None
+    return f"{what} ran {rest[:4]}, not one move onto one of {targets[:6]}"
+
+
+def distance_text(a: str, b: str) -> str:
+    """A promise's text of :func:`distance` between the cells the texts ``a`` and ``b`` name."""
+    return f"(abs({a}[0] - {b}[0]) + abs({a}[1] - {b}[1]))"
+
+
 def indices(n: int) -> str:
     """The list [0, 1, ..., n - 1] written out (the promises' language has no range())."""
     return "[" + ", ".join(str(k) for k in range(n)) + "]"

@@ -206,15 +206,15 @@ def _guard(negated: list[list[str]], conditions: list[str], functions: dict[str,
         return plain
 
     def held(condition: str) -> str:
-        if not _loops(condition):
+        if not _loops(ast.parse(condition, mode="eval")):
             return condition
         return f"{functions.setdefault(condition, f'condition{len(functions) + 1}')}()"
     return written(held)
 
 
-def _loops(text: str) -> int:
-    """The comprehension loops of the expression ``text``."""
-    return sum(len(node.generators) for node in ast.walk(ast.parse(text, mode="eval"))
+def _loops(tree: ast.AST) -> int:
+    """The comprehension loops of the expression ``tree``."""
+    return sum(len(node.generators) for node in ast.walk(tree)
                if isinstance(node, (ast.ListComp, ast.GeneratorExp)))
 
 
@@ -222,7 +222,7 @@ def _fits(text: str) -> bool:
     """Whether the expression ``text`` keeps the expression language's limits of size."""
     tree = ast.parse(text, mode="eval")
     return (len(text) <= MAX_SOURCE_CHARS and sum(1 for _ in ast.walk(tree)) <= MAX_NODES
-            and _loops(text) <= MAX_GENERATORS)
+            and _loops(tree) <= MAX_GENERATORS)
 
 
 class _Writer:
