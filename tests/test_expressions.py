@@ -6,8 +6,9 @@ import itertools
 
 import pytest
 
-from vlb_gym.core.budget import MAX_SIZE, Budget
+from vlb_gym.core.budget import MAX_SIZE, MAX_WORK, Budget
 from vlb_gym.core.expressions import BUILTINS, Expression, ExpressionError, guard_namespace
+from vlb_gym.core.helpers import Helpers, helper
 
 WHERE = "behavior.json: nodes.n1.guard"
 
@@ -427,3 +428,29 @@ def test_sum_adds_numbers_only():
     with pytest.raises(ValueError, match="adds numbers only"):
         _evaluate("sum(big)", big=[[1], [2]])
     assert _evaluate("sum([1, 2.5])") == 3.5
+
+
+class _Lists(Helpers):
+    def bind(self, observation):
+        pass
+
+    @helper
+    def cells(self, k: int) -> list[int]:
+        return [k - 1, k + 1]
+
+    @helper(at_most=2)
+    def around(self, k: int) -> list[int]:
+        return [k - 1, k + 1]
+
+
+def test_list_helpers_are_charged_their_length_unless_declared_short():
+    budget = Budget()
+    ns = guard_namespace(budget.charging(_Lists().functions()), budget)
+    names = {**dict.fromkeys(BUILTINS), "cells": 1, "around": 1}
+
+    def work(source: str) -> int:
+        Expression(source, names, WHERE).evaluate(ns)
+        return MAX_WORK - budget.work
+
+    assert (work("cells(3)"), work("around(3)")) == (2, 0)
+    assert work("len([k for k in cells(3)])") == work("len([k for k in around(3)])") + 2 > 2

@@ -5,10 +5,16 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import ndimage
 
+from vlb_gym.core.helpers import AT_MOST
 from vlb_gym.core.primitive import Failure
 from vlb_gym.envs.grid_explore import GridExploreEnv, planner
+from vlb_gym.envs.grid_explore.generator import free_components
+from vlb_gym.envs.grid_explore.helpers import GridHelpers
+from vlb_gym.envs.grid_explore.judge import GridJudge
 from vlb_gym.envs.grid_explore.types import EMPTY, GOAL, OBSTACLE, UNEXPLORED, cell_of
 from vlb_gym.wrappers.robustness import certificate_cause
 
@@ -208,3 +214,26 @@ def test_goal_found_in_info_equals_the_labels():
                 env.action_space.sample()
             info = env.step(action)[4]
             assert info["goal_found"] == bool((env.unwrapped.state.labels == 3).any())
+
+
+@settings(max_examples=300, deadline=None)
+@given(size=st.integers(1, 16), density=st.floats(0, 1), seed=st.integers(0, 2**32 - 1))
+def test_free_components_number_them_as_scipy_does(size, density, seed):
+    truth = np.where(np.random.default_rng(seed).random((size, size)) < density, OBSTACLE,
+                     EMPTY).astype(np.int8)
+    expected = ndimage.label(truth != OBSTACLE, structure=ndimage.generate_binary_structure(2, 1))
+    got = free_components(truth)
+    assert got.dtype == np.int32 and np.array_equal(got, expected[0])
+
+
+@pytest.mark.parametrize("size", [2, 3, 10, 17])
+def test_neighbour_helpers_keep_their_declared_most_length(size):
+    helpers, judge = GridHelpers(size), GridJudge(size)
+    bound = {fn: getattr(fn, AT_MOST) for fn in (*helpers.functions().values(),
+                                                   *judge.functions().values())
+             if getattr(fn, AT_MOST, None) is not None}
+    assert {fn.__name__ for fn in bound} == {"adjacent", "neighbours"}
+    for cell in np.ndindex(size, size):
+        cell = tuple(map(int, cell))
+        assert len(helpers.adjacent(cell)) <= bound[helpers.adjacent]
+        assert len(judge.neighbours(cell)) <= bound[judge.neighbours]

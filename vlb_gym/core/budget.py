@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from .errors import UserError
+from .helpers import AT_MOST
 
 MAX_SIZE = 10_000  # elements in a list/tuple/string an operation builds (nested ones counted)
 MAX_WORK = 1_000_000  # work units per top-level evaluation
@@ -33,8 +34,10 @@ MAX_EPISODE_WORK = 100 * MAX_WORK  # ... of one episode (and of a dry run's epis
 
 @lru_cache(maxsize=4096)
 def _returns_list(function: Callable[..., Any]) -> bool:
-    """Whether ``function`` says it returns a list (its return annotation), read once."""
-    return str(inspect.signature(function).return_annotation).startswith(("list", "List"))
+    """Whether ``function`` says it returns a list (its return annotation) of no fixed most
+    length (:func:`~.helpers.helper`'s ``at_most``), read once."""
+    return (str(inspect.signature(function).return_annotation).startswith(("list", "List"))
+            and getattr(function, AT_MOST, None) is None)
 
 
 @lru_cache(maxsize=4096)
@@ -324,7 +327,8 @@ class Budget:
     def charging(self, helpers: Mapping[str, Callable[..., Any]]
                  ) -> dict[str, Callable[..., Any]]:
         """``helpers`` with the list-returning ones (by return annotation) charged their
-        result's length (the others return fixed-size values), and those of no arguments
+        result's length (the others return fixed-size values, as do those declaring
+        ``at_most``), and those of no arguments
         computed once per top-level evaluation (:meth:`once`: the observation or episode
         they read stays the same while an expression is evaluated)."""
         out = {}

@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 
 _MARK = "__vlb_helper__"
 ONE_OF = "__vlb_one_of__"  # the closed set of values a helper's string result is one of
+AT_MOST = "__vlb_at_most__"  # the most items a helper's list result ever has
 _BRIEF = reprlib.Repr()
 _BRIEF.maxlevel, _BRIEF.maxtuple, _BRIEF.maxlist = 3, 8, 8
 _BRIEF.maxstring, _BRIEF.maxother, _BRIEF.maxlong = 60, 60, 40
@@ -31,18 +32,22 @@ def brief(value: Any, limit: int = 120) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def helper(fn: Callable[..., Any] | None = None, *, one_of: tuple[str, ...] | None = None
-           ) -> Any:
+def helper(fn: Callable[..., Any] | None = None, *, one_of: tuple[str, ...] | None = None,
+           at_most: int | None = None) -> Any:
     """Mark a method of a :class:`Helpers` subclass as callable from behavior expressions.
 
     ``@helper(one_of=(...))`` also declares that the (string) result is always one of these
     values: the type check (:mod:`vlb_gym.core.typecheck`) then refuses comparing it with anything
-    else, such as ``label(c) == 2`` or ``label(c) == 'wall'``.
+    else, such as ``label(c) == 2`` or ``label(c) == 'wall'``. ``@helper(at_most=n)`` declares
+    that a list result never has more than ``n`` items (e.g. a cell's neighbours): a fixed-size
+    value, which the budget does not charge by its length.
     """
     def mark(fn: Callable[..., Any]) -> Callable[..., Any]:
         setattr(fn, _MARK, True)
         if one_of is not None:
             setattr(fn, ONE_OF, tuple(one_of))
+        if at_most is not None:
+            setattr(fn, AT_MOST, at_most)
         return fn
     return mark if fn is None else mark(fn)
 
@@ -64,7 +69,8 @@ class Helpers(abc.ABC):
     check types before using a value (an argument may be a huge list, or a tuple nested 40 deep
     that shares its halves, whose hash or repr never ends), never iterate, hash or print it
     whole (:func:`brief` prints it in bounded time). A helper that returns a list says so in its
-    return annotation (``-> list[...]``): the budget then charges each call the list's length.
+    return annotation (``-> list[...]``): the budget then charges each call the list's length,
+    unless it declares that the list is never longer than a constant (``@helper(at_most=n)``).
     """
 
     @abc.abstractmethod

@@ -12,18 +12,35 @@ restricted to allowable pairs is exactly the uniform distribution on the allowab
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
-from .planner import padded_blocked
+from .planner import _neighbours, padded_blocked
 from .types import EMPTY, GOAL, OBSTACLE, UNEXPLORED, GridState, cell_of
 
-_FOUR = ndimage.generate_binary_structure(2, 1)
 MAX_TRIES = 10_000
 
 
 def free_components(truth: np.ndarray) -> np.ndarray:
-    """4-connected components of the non-obstacle cells (0 marks obstacles)."""
-    return ndimage.label(truth != OBSTACLE, structure=_FOUR)[0]
+    """4-connected components of the non-obstacle cells, numbered 1, 2, ... in the order of
+    their first cell in flat-index order (``scipy.ndimage.label``'s numbering); 0 marks
+    obstacles. Plain Python: as fast as ndimage on these grids, and a process that samples
+    grids need not import scipy.ndimage (0.2 s)."""
+    size = truth.shape[0]  # grids are square
+    free = (truth.ravel() != OBSTACLE).tolist()
+    neighbours = _neighbours(size)
+    labels = [0] * (size * size)
+    count = 0
+    for first, is_free in enumerate(free):
+        if not is_free or labels[first]:
+            continue
+        count += 1
+        labels[first] = count
+        stack = [first]
+        while stack:
+            for k in neighbours[stack.pop()]:
+                if free[k] and not labels[k]:
+                    labels[k] = count
+                    stack.append(k)
+    return np.array(labels, dtype=np.int32).reshape(size, size)
 
 
 def is_allowable(truth: np.ndarray, component: np.ndarray, cell: tuple[int, int]) -> bool:

@@ -96,7 +96,7 @@ class GridHelpers(Helpers):
                              if lab != UNEXPLORED]
         return view.explored
 
-    @helper
+    @helper(at_most=4)
     def adjacent(self, cell: Cell | None = None) -> list[Cell]:
         """E2: the cells 4-adjacent to ``cell`` (default: the agent's cell), inside the grid."""
         if type(cell) is tuple and len(cell) == 2:  # _index's fast path, inlined: a hot call

@@ -193,7 +193,7 @@ class GridJudge(Judge):
         near[:, :-1] |= reach[:, 1:]
         return bool((self._state.labels[near] != UNEXPLORED).all())
 
-    @helper
+    @helper(at_most=4)
     def neighbours(self, cell: Cell) -> list[Cell]:
         """The cells 4-adjacent to ``cell``, inside the grid."""
         return self._adjacent[cell_index(cell, self.size, "neighbours")]
