@@ -19,6 +19,7 @@ from .records import CampaignConfig, EpisodeResult, Step, episode_seed
 
 
 _NUMBERS = (int, float, bool)
+_NUMBER_TYPES = frozenset(_NUMBERS)
 
 
 def _plain(value: Any) -> Any:
@@ -26,7 +27,7 @@ def _plain(value: Any) -> Any:
     kind = type(value)
     if kind in _NUMBERS or value is None or kind is str:
         return value
-    if kind is tuple and all(type(v) in _NUMBERS for v in value):  # most parameters
+    if kind is tuple and _NUMBER_TYPES.issuperset(map(type, value)):  # most parameters
         return list(value)
     if isinstance(value, dict):
         return {str(k): _plain(v) for k, v in value.items()}
