@@ -3,8 +3,113 @@ after it.
 
     python benchmarks/synthesis_eval.py --tasks benchmarks/heldout14/tasks.py --list
 
-DOCSTRING_BODY
-"""
+Twelve grid tasks of kinds none of the earlier sets has (exploring that stops once the cells known
+span six columns; exploring that stops at the first sense taken on a cell squeezed between two
+obstacles, along its row or its column; exploring that stops once the senses taken outnumber the
+obstacles known; exploring that stops at the second of two senses in a row that show no obstacle;
+exploring that stops at the first sense that shows an empty cell, an obstacle and a goal at once; a
+walk up to the wall above the start, then along its underside to the right; once a goal is in view,
+onto the empty cell next to it that is nearest the start; after exploring, to whichever is nearer,
+the start or the nearest goal; a search in rounds of three looks with a trip home after each round;
+a search that, once a goal is in view, takes as many senses again before going onto a goal;
+exploring that stops at the fifth sense taken farther from the start than every earlier one; a
+search that always goes to the nearest known free cell never stood in) and two scooping tasks (one
+to five scoops that score at least 30 points, a point a gram delivered, less a point a gram spilled
+and 10 a scoop; one to four scoops that deliver at least 40 g and at least 12 g times the square of
+the number of scoops). Each has a reference behavior (``references/``), a ground-truth ``check`` and
+a faithful ``promise`` over the env's outcome helpers, so that the search can be measured apart from
+the model. They were written on 2026-12-07 blind: without reading the search's code and without
+running the synthesizer on them; the first run of the search on them is the evaluation, reported
+beside the development figures.
+
+Words as the checks read them (as in the other sets): a cell is *free* when it holds no obstacle
+(empty or a goal) and *empty* when it holds neither an obstacle nor a goal; *known* when the agent's
+label of it is not 'unexplored'; *reachable* when it lies in the start cell's free component;
+*nothing more to find* when every reachable cell and every cell next to one is known; *up* is j + 1,
+*down* j - 1, *right* i + 1, *left* i - 1; a *column* is the cells of one i, and the known cells
+*span* the columns from the smallest i of a known cell to the largest, both counted; a sense labels
+its cell and the four around it (it *shows* them; a goal *comes into view* with the first sense that
+shows it); the cells *next to* a cell are its four neighbours inside the grid, and the obstacles
+next to it are those among them (the grid's edge does not count); a sense *shows no obstacle* when
+no cell next to its cell holds one (its own cell never does); a cell is *squeezed* when the two
+cells beside it along its row, or the two along its column, are inside the grid and obstacles; two
+senses are *in a row* when no other sense comes between them (a move may); a cell *stood in* is the
+start or one a move ended in; a *round* is three moves, each followed by a sense, and then a move
+onto the start; a sense sets a *record* when its cell is farther from the start than the cell of
+every earlier sense (the first sense sets none); the *wall above* is the obstacle that ends the walk
+up, and the walk along its underside goes right while the cell above the agent is an obstacle and
+the cell to its right is free; the *distance* of two cells, and *nearest*, count steps along rows
+and columns (|di| + |dj|), obstacles ignored. The start cell always has a free neighbour (a goal is
+reachable from it and it holds none); the references only move onto cells they know, so none ever
+stood on a goal when it first came into view. The promises' language allows three comprehension
+loops in one expression, all of them counted together, and 400 syntax nodes: where a promise needs
+indices it writes them out (obstacle_rate_stop's, clear_streak's, all_kinds_look's and
+outward_records' promises read up to 100 senses, nearest_new_cell_search's up to 80, where the
+references never made more than 61 and 66); where a rule must hold at the last sense and at no
+earlier one, the promise counts in one sum the senses where it held, the last once and each earlier
+one twice, and compares that one number (clear_streak, all_kinds_look; outward_records counts its
+records twice and the last sense once more if it set one); the span of the known map is read from
+the first and the last known cell, since lists of cells are in flat-index order (i * 10 + j); where
+senses and moves alternate, each sense is where the move before it ended, as the navigate
+certificates say (double_the_search, nearest_new_cell_search); a nearest cell is read as the first
+of the candidates sorted by distance and by a tag that puts the cell the agent stands in, then the
+cell it went to, first among equals (homeward_side_of_goal, nearest_new_cell_search). The scooping
+checks weigh the grains at the end, as ``delivered()`` and ``spilled()`` do: those in the receiver,
+and those outside the receiver, the donor and the spoon's tray.
+
+Validation before the set was fixed (``evaluate``'s counting, each reference with its task's
+promise): every grid reference kept its promise and did its task on all 300 episodes (0-99 of seeds
+0, 1 and 2), the promise's verdict equal to the check's on all. On those episodes the tasks'
+branches came up: the known cells spanning six columns after 4 to 34 senses (within 5 senses 103,
+after 20 or more 94), nothing more to find first 3; a squeezed cell sensed from 298 times (along its
+row 135, along its column 163; the start 40), after up to 42 senses, nothing more to find first 2;
+the senses outnumbering the obstacles after 1 to 17 senses (at the first, with no obstacle next to
+the start, 86; at the second 53, the third 39, later 122, nothing more to find first in 2 of them);
+two clear looks in a row 287 times, after up to 61 senses (under 10: 112), nothing more to find
+first 13; a look of all three kinds 297 times (after passing over earlier senses that showed a goal
+113, taken on a goal 65), nothing more to find first 3; the walk up of 0 to 8 moves 106, 57, 49, 42,
+17, 20, 4, 4 and 1 times, ended by the top edge 89 and by an obstacle 211, the walk right of 0 to 4
+moves 153, 127, 18, 1 and 1 times; the empty cell nearest the start next to the goal the agent's own
+cell 276 times and another one 24 (one such cell known 227, two 73; the goal in view from the start
+41; two goals in view 6); after exploring, to a goal 215 and to the start 85 times (equally near 13,
+standing there already 17; 1, 2 and 3 reachable goals 21, 61 and 218 times); 0 to 17 rounds before
+the goal came into view (none 99, in view from the start 41; one 43, two 22, three to five 75, six
+or more 61), up to 53 senses; the first goal sense the 1st to the 11th 41, 27, 18, 13, 13, 12, 18,
+11, 1, 10 and 10 times and later 126, the count doubled 266 times and nothing more to find first 34,
+ending on a goal it stood on 32; the fifth record, or nothing more to find first (4 times, with 2 to
+4 records), after 5 to 20 senses (the sixth 149, the seventh to ninth 99, later 51); the nearest new
+cell search seeing a goal from the start 41 times and after up to 66 senses (under 10: 155, 40 or
+more 13). Faithfulness on behaviors that do not do the tasks: every grid promise was judged against
+73 near misses of the references (thresholds and counts one off, other directions, rules or places
+to go, the grid's edge taken for an obstacle, a condition dropped or changed, one sense late, a
+missing or extra sense or move, cells not yet known taken for free) and 13 other ways of doing the
+tasks (another explorer, another choice among ties or goals) on episodes 0-99 of seeds 0 and 1
+(17,189 judged episodes for each promise, 11 lost where a near miss moved onto an unknown obstacle:
+the near misses kept their own task's promise on 4,841 of their 14,589 and the other ways on all
+their 2,600; three near misses did their task on every one of these episodes and kept its promise
+there: all_kinds_look's goal and obstacle without the empty cell, the agent's own cell being one;
+map_six_wide's count of distinct columns, the known columns having no gap; homeward_side_of_goal's
+free rather than empty cells, no goal next to a goal being nearer the start), against the 12
+references of this set, the 12 grid references of heldout13 and the 158 of the development and
+earlier held-out sets on episodes 0-49 of seed 0 (9,100 judged episodes for each promise), and
+against 3 trivial behaviors (stop at once, judged on the reset; sense once; navigate onto the cell
+it stands in) on episodes 0-99 of seeds 0 and 1: on every judged episode the promise's verdict
+equalled the check's. Keep rates of the trivial behaviors: stopping at once and navigating onto the
+cell it stands in keep no promise on any episode; sensing once keeps none but obstacle_rate_stop's
+(59 of 200: no obstacle next to the start), follow_wall_above's (29: the cell above the start an
+obstacle and the cell to its right blocked, or the start in the top row), homeward_side_of_goal's
+(29: a goal next to the start, which is then the nearest empty cell), squeezed_stop's (21: the start
+squeezed) and all_kinds_look's (16: the first look shows all three kinds), where the task asks for
+the one sense. The logic of the held-out folder tests (tests/test_synthesis_eval.py's
+satisfiable-faithful-checkable test, and tests/test_certified.py's readings of every promise and its
+bank test) pointed at this folder passed. The scooping references (four and two scoops from the
+default sensing pose) were run on episodes 0-19 of seed 0 only (3 to 9 s an episode) and kept their
+promises and did their tasks on all 20: four scoops delivered 101.8 to 185.5 g and spilled 0.0 to
+31.7 g, for 41.4 to 131.9 points (30 needed: margin 11.4); two scoops delivered 58.8 to 97.3 g (48 g
+needed: margin 10.8). Other counts on episodes 0-9 (both promises judged, the checks agreeing on
+every one): one scoop (33.9 to 54.3 g) kept scoop_points' promise on 5 and rising_bar's on 7; two
+scoops kept scoop_points' on 8; three (88.2 to 133.5 g) kept scoop_points' on all 10 and
+rising_bar's on 5; four and five kept scoop_points' on all 10 and rising_bar's on none."""
 
 from __future__ import annotations
 
@@ -22,7 +127,7 @@ REFERENCES = Path(__file__).resolve().parent / "references"
 SCOOP = "VLB-Scoop-v0"
 RIGHT, UP = (1, 0), (0, 1)
 WIDE = 6  # columns the known map must span (map_six_wide)
-RECORDS = 3  # records of distance from the start that end outward_records
+RECORDS = 5  # records of distance from the start that end outward_records
 ROUND = 3  # senses of a round of three_look_rounds
 
 
@@ -185,11 +290,11 @@ def check_three_look_rounds(state, result):
 def check_double_the_search(state, result):
     """A sense first, then a move and a sense in turn; exploring stops with the sense that
     doubles the count of senses up to the one that first showed a goal, or with the sense after
-    which nothing more is to be found if that comes first; then one move onto a goal that
-    first goal sense showed (nothing if the agent stands on one)."""
+    which nothing more is to be found if that comes first; then one move onto a known goal
+    (nothing if the agent stands on a goal)."""
     steps = steps_of(result)
     known = _unknown(state)
-    senses, need, targets = 0, None, []
+    senses, need = 0, None
     for index, (kind, c) in enumerate(steps):
         if kind != ("sense" if index % 2 == 0 else "navigate"):
             return f"step {index + 1} was a {kind}: a sense first and after every move, and " \
@@ -199,9 +304,10 @@ def check_double_the_search(state, result):
         senses += 1
         label_sensed(state, known, (kind, c))
         if need is None and goals_shown(state, c):
-            need, targets = 2 * senses, goals_shown(state, c)
+            need = 2 * senses
         if need is not None and (senses >= need or exhausted(state, known)):
-            return onto(steps[index + 1:], c, targets, "after the last sense")
+            goals = [cell(g) for g in zip(*(known & (state.truth == GOAL)).nonzero())]
+            return onto(steps[index + 1:], c, goals, "after the last sense")
     return "stopped before the search was doubled or everything was known"
 
 
@@ -248,7 +354,7 @@ def check_nearest_new_cell_search(state, result):
     return onto(steps[index + 1:], here, goals_shown(state, here), "after the goal came into view")
 
 
-POINTS, POINT_SPILL, POINT_SCOOP = 20, 2, 10  # points needed; lost a gram spilled; lost a scoop
+POINTS, POINT_SPILL, POINT_SCOOP = 30, 1, 10  # points needed; lost a gram spilled; lost a scoop
 BAR, BAR_FLOOR = 12, 40  # grams a squared scoop; grams delivered in any case
 
 
@@ -257,7 +363,7 @@ def check_scoop_points(state, result):
     if len(result.steps) != n or not 1 <= n <= 5:
         return f"{n} scoop(s) in {len(result.steps)} step(s)"
     mass, spilled = grams_in_receiver(state), grams_spilled(state)
-    points = mass - POINT_SPILL * spilled - POINT_SCOOP * n
+    points = mass - POINT_SPILL * spilled - POINT_SCOOP * n  # POINT_SPILL: 1, as the promise reads
     return None if points >= POINTS else \
         f"{points:.1f} points: {mass:.1f} g delivered, {spilled:.1f} g spilled, {n} scoops"
 
@@ -292,8 +398,8 @@ _RULE_OR_ALL = f"([0, 1] if explored_all() and {_FRESH} else [1] if not explored
 _ONTO_GOAL = f"((steps_after_goal() == 0 and is_goal({_L})) or (steps_after_goal() == 1 and " \
              f"primitives()[-1] == 'navigate' and not is_goal({_L}) and is_goal({_F}) and " \
              f"{_F} in neighbours({_L})))"
-# the same, shorter: the goal the agent ends on is its cell, a goal, or one next to it, and it
-# ends there with one move after the goal sense unless it stood on a goal at that sense
+# the same, shorter: the agent ends on a goal, the cell of the goal sense with no step after it
+# if that cell is a goal, else one next to it with the one step after it (a sense moves nothing)
 _ONTO_GOAL_SHORT = f"steps_after_goal() == (0 if is_goal({_L}) else 1) and is_goal({_F}) and " \
                    f"{_F} in [{_L}] + neighbours({_L})"
 # a sense after every move and nowhere else: the steps up to the last sense
@@ -327,10 +433,17 @@ def _clear(k: str) -> str:
 _KINDS = "sum([1 if is_obstacle(x) else 100 if is_goal(x) else 10 for x in [sensed()[k]] + " \
          "neighbours(sensed()[k])])"
 _ALL_KINDS = "T % 10 > 0 and T // 10 % 10 > 0 and T >= 100"
-# the first sense that shows a goal (an index of sensed(), with _TURNS), and the last sense
+# the first sense that shows a goal (an index of sensed(), with _TURNS)
 _F_GOAL = "((len(primitives()) - 1 - steps_after_goal()) // 2)"
-_SHOWN = "({0} == G or {0} in neighbours(G))"  # the goal sense G showed the cell {0}
+# the last sense showed a cell no earlier sense showed (then nothing more was to be found
+# before it), read from the senses where a move may follow it
+_NEW_LAST = f"any(not any(x == s or x in neighbours(s) for s in sensed()[:-1]) for x in " \
+            f"[{_L}] + neighbours({_L}))"
 _ROUNDS = "max(0, (len(sensed()) - 2) // 3)"  # rounds completed (home trips) before the goal sense
+# the values of _RECORDS allowed when nothing more was to be found after the last sense and not
+# before: r records, L = 1 if the last sense set one, r - L < RECORDS
+_RECORDS_ALL = str(sorted({2 * r + last for r in range(RECORDS + 1) for last in (0, 1)
+                           if r - last <= RECORDS - 1 and r >= last}))
 # the senses that set a record of distance from the start, 2 each and 3 for the last sense
 _RECORDS = f"sum([(3 if k == len(sensed()) - 1 else 2) for k in {_K100}[1:len(sensed())] if " \
            f"all({_d('sensed()[k]')} > {_d('s')} for s in sensed()[:k])])"
@@ -402,9 +515,9 @@ TASKS = [
           "the empty cell right next to that goal that is nearest to your starting cell "
           "(counting steps along rows and columns, ignoring obstacles), choosing among the "
           "cells next to the goal that you know to be empty by then -- any of them if several "
-          "are equally near. If you are standing on that cell, or the goal has no such cell "
-          "next to it, just stop. If that sense showed you several goals, do this for any one "
-          "of them.",
+          "are equally near. If you are standing on one of those nearest cells, or the goal has "
+          "no such cell next to it, just stop. If that sense showed you several goals, do this "
+          "for any one of them.",
           f"goal_found() and primitives()[len(primitives()) - steps_after_goal():] == ([] if "
           f"{_F} == {_L} else ['navigate']) and any(sorted([({_d('c')}, (0 if c == {_L} else 2) "
           f"+ (0 if c == {_F} else 1)) for c in neighbours(g) if not is_obstacle(c) and not "
@@ -433,30 +546,29 @@ TASKS = [
           f"{_ROUNDS} + ['navigate', 'sense'] * (len(sensed()) - 1 - 3 * {_ROUNDS}) and "
           f"moves()[3::4][:{_ROUNDS}] == [{_S}] * {_ROUNDS}"),
     _task("double_the_search", 3, check_double_the_search,
-          "Search for a goal, then look around for as long again before you claim it. Sense "
+          "Search for a goal, then look around for as long again before you go to one. Sense "
           "where you start and after every move, and at no other time. Count your senses up to "
           "and including the one that first shows you a goal; then keep exploring until you "
           "have taken that many senses again (after a first goal sense that was your fifth, "
-          "stop after your tenth), and go onto the goal with one move and stop -- onto any goal "
-          "that first goal sense showed you; if you are standing on one of those, just stop. "
-          "If there is nothing more to find before you have taken all those senses, go onto "
-          "the goal right after the sense that leaves nothing more to find.",
+          "stop after your tenth), and go with one move onto a goal you know and stop (any of "
+          "them; if you are standing on a goal, just stop). If there is nothing more to find "
+          "before you have taken all those senses, do this right after the sense that leaves "
+          "nothing more to find.",
           f"goal_found() and {_TURNS} and primitives()[2 * len(sensed()) - 1:] in [[], "
           f"['navigate']] and (len(primitives()) - 1 - steps_after_goal()) % 2 == 0 and "
-          f"all(((len(sensed()) == 2 * f + 2 and {_NOT_BEFORE}) or (len(sensed()) <= 2 * f + 2 "
-          f"and explored_all() and {_FRESH})) and (({_STAY} and is_goal({_L}) and "
-          f"{_SHOWN.format(_L)}) or ({_MOVE} and is_goal({_F}) and {_SHOWN.format(_F)} and not "
-          f"(is_goal({_L}) and {_SHOWN.format(_L)}))) for f in [{_F_GOAL}] for G in "
-          f"[sensed()[f]])"),
+          f"all(len(sensed()) <= 2 * f + 2 and ((len(sensed()) == 2 * f + 2 and not "
+          f"explored_all()) or ({_NEW_LAST} and (len(sensed()) == 2 * f + 2 or explored_all()))) "
+          f"for f in [{_F_GOAL}]) and (({_STAY} and is_goal({_L})) or ({_MOVE} and "
+          f"is_goal({_F}) and {_F} in known_cells() and not is_goal({_L})))"),
     _task("outward_records", 3, check_outward_records,
-          f"Explore, moving and sensing, pushing outwards: note how far from your starting cell "
-          f"each of your senses is taken (steps along rows and columns, ignoring obstacles). A "
-          f"sense sets a new record when it is taken farther from your start than every earlier "
-          f"sense (your first sense only sets the first distance; it is no record). Stop right "
-          f"after the sense that sets the {RECORDS}rd record. If there is nothing more to find "
-          f"before that, stop right after the sense that leaves nothing more to find.",
-          f"primitives()[-1:] == ['sense'] and {_RECORDS} in ([0, 2, 3, 4, 5, 7] if "
-          f"explored_all() and {_FRESH} else [7] if not explored_all() else [])"),
+          "Explore, moving and sensing, pushing outwards: note how far from your starting cell "
+          "each of your senses is taken (steps along rows and columns, ignoring obstacles). A "
+          "sense sets a new record when it is taken farther from your start than every earlier "
+          "sense (your first sense only sets the first distance; it is no record). Stop right "
+          "after the sense that sets the fifth record. If there is nothing more to find before "
+          "that, stop right after the sense that leaves nothing more to find.",
+          f"primitives()[-1:] == ['sense'] and {_RECORDS} in ({_RECORDS_ALL} if explored_all() "
+          f"and {_FRESH} else [{2 * RECORDS + 1}] if not explored_all() else [])"),
     _task("nearest_new_cell_search", 3, check_nearest_new_cell_search,
           "Search for a goal by always going to the nearest place you have not been. Sense "
           "where you start. Then, until a sense shows you a goal, move onto the cell nearest "
@@ -470,12 +582,12 @@ TASKS = [
           f"p in sensed()[:k + 1] for c in neighbours(p) if not is_obstacle(c) and c not in "
           f"sensed()[:k + 1]] + [(99, True)])[1] for k in {_K80}[:len(sensed()) - 1])"),
     _task("scoop_points", 2, check_scoop_points,
-          f"Play for points. Each gram of grains you get into the receiver wins 1 point, each "
-          f"gram you spill outside the containers loses {POINT_SPILL} points, and each scoop "
-          f"costs {POINT_SCOOP} points. Scoop one to five times, then stop, with at least "
-          f"{POINTS} points.",
-          f"scoops() >= 1 and scoops() <= 5 and delivered() - {POINT_SPILL} * spilled() - "
-          f"{POINT_SCOOP} * scoops() >= {POINTS}", SCOOP),
+          f"Play for points. Each gram of grains you get into the receiver wins a point, each "
+          f"gram you spill outside the containers loses a point, and each scoop costs "
+          f"{POINT_SCOOP} points. Scoop one to five times, then stop, with at least {POINTS} "
+          f"points.",
+          f"scoops() >= 1 and scoops() <= 5 and delivered() - spilled() - {POINT_SCOOP} * "
+          f"scoops() >= {POINTS}", SCOOP),
     _task("rising_bar", 2, check_rising_bar,
           f"Scoop one to four times, then stop, with at least {BAR_FLOOR} grams of grains in the "
           f"receiver -- and the more scoops you make, the higher the bar: the receiver must "
