@@ -432,7 +432,7 @@ def test_sum_adds_numbers_only():
 
 class _Lists(Helpers):
     def bind(self, observation):
-        pass
+        """No observation: the lists depend on the argument alone."""
 
     @helper
     def cells(self, k: int) -> list[int]:

@@ -105,8 +105,8 @@ from pathlib import Path
 from benchmarks.synthesis_tasks import (distance, distance_text, exhausted, first_goal_sense,
                                         free_cell, goals_shown, grams_in_receiver, grams_spilled,
                                         held_out_task, indices, known_after, neighbours,
-                                        obstacles_beside, on_grid, onto, reachable, same_steps,
-                                        scoops, step_by, steps_of)
+                                        obstacles_beside, on_grid, onto, onto_goal_seen, reachable,
+                                        same_steps, scoops, step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -260,9 +260,7 @@ def check_single_step_search(state, result):
     index = first_goal_sense(state, result)
     if index is None:
         return "no goal seen"
-    here = steps[index][1]
-    return onto(steps[index + 1:], here, goals_shown(state, here),
-                 "after the goal came into view")
+    return onto_goal_seen(state, steps, index)
 
 
 def check_last_seen_goal(state, result):

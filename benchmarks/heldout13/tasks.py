@@ -108,8 +108,9 @@ from pathlib import Path
 from benchmarks.synthesis_tasks import (cell, distance, distance_text, exhausted, first_goal_sense,
                                         first_reaching, free_cell, free_neighbours, goals_shown,
                                         grams_in_receiver, grams_spilled, held_out_task, indices,
-                                        label_sensed, obstacles_beside, on_grid, onto, reachable,
-                                        same_steps, scoops, sensed_cells, step_by, steps_of)
+                                        label_sensed, obstacles_beside, on_grid, onto,
+                                        onto_goal_seen, reachable, same_steps, scoops, sensed_cells,
+                                        step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -153,9 +154,7 @@ def check_clear_start_search(state, result):
     index = first_goal_sense(state, result)
     if index is None:
         return "no goal seen"
-    here = steps[index][1]
-    return onto(steps[index + 1:], here, goals_shown(state, here),
-                 "after the goal came into view")
+    return onto_goal_seen(state, steps, index)
 
 
 def check_ring_around_start(state, result):

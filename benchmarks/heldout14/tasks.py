@@ -119,8 +119,8 @@ from benchmarks.synthesis_tasks import (cell, distance, distance_text, exhausted
                                         first_reaching, free_cell, goals_shown, grams_in_receiver,
                                         grams_spilled, held_out_task, indices, known_after,
                                         label_sensed, neighbours, obstacles_beside, on_grid, onto,
-                                        reachable, same_steps, scoops, sensed_cells, step_by,
-                                        steps_of)
+                                        onto_goal_seen, reachable, same_steps, scoops, sensed_cells,
+                                        step_by, steps_of)
 from vlb_gym.envs.grid_explore.types import EMPTY, GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -283,8 +283,7 @@ def check_three_look_rounds(state, result):
             return f"step {t + 1} was a {kind}, not a {want}"
         if t > 0 and (t - 1) % len(block) == len(block) - 1 and c != home:
             return f"step {t + 1} went to {c}, not back to the start after a round"
-    here = steps[index][1]
-    return onto(steps[index + 1:], here, goals_shown(state, here), "after the goal came into view")
+    return onto_goal_seen(state, steps, index)
 
 
 def check_double_the_search(state, result):
@@ -350,8 +349,7 @@ def check_nearest_new_cell_search(state, result):
             return f"step {t + 1} went to {c}, not to one of the nearest known free cells " \
                    f"never stood in {[x for x in new if distance(here, x) == near][:6]}"
         stood.append(c)
-    here = steps[index][1]
-    return onto(steps[index + 1:], here, goals_shown(state, here), "after the goal came into view")
+    return onto_goal_seen(state, steps, index)
 
 
 POINTS, POINT_SPILL, POINT_SCOOP = 30, 1, 10  # points needed; lost a gram spilled; lost a scoop

@@ -165,6 +165,13 @@ def onto(rest: list, here: Cell, targets: list, what: str) -> str | None:
     return f"{what} ran {rest[:4]}, not one move onto one of {targets[:6]}"
 
 
+def onto_goal_seen(state: GridState, steps: list, index: int) -> str | None:
+    """:func:`onto` after step ``index``, the sense that first showed a goal: the steps after
+    it are nothing (the agent stands on a goal) or one move onto a goal that sense showed."""
+    here = steps[index][1]
+    return onto(steps[index + 1:], here, goals_shown(state, here), "after the goal came into view")
+
+
 def distance_text(a: str, b: str) -> str:
     """A promise's text of :func:`distance` between the cells the texts ``a`` and ``b`` name."""
     return f"(abs({a}[0] - {b}[0]) + abs({a}[1] - {b}[1]))"

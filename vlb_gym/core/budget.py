@@ -33,9 +33,10 @@ MAX_EPISODE_WORK = 100 * MAX_WORK  # ... of one episode (and of a dry run's epis
 
 
 @lru_cache(maxsize=4096)
-def _returns_list(function: Callable[..., Any]) -> bool:
-    """Whether ``function`` says it returns a list (its return annotation) of no fixed most
-    length (:func:`~.helpers.helper`'s ``at_most``), read once."""
+def _charged_by_length(function: Callable[..., Any]) -> bool:
+    """Whether ``function``'s calls are charged their result's length: it says it returns a
+    list (its return annotation) and declares no constant most length (:func:`~.helpers.helper`'s
+    ``at_most``), read once."""
     return (str(inspect.signature(function).return_annotation).startswith(("list", "List"))
             and getattr(function, AT_MOST, None) is None)
 
@@ -334,7 +335,7 @@ class Budget:
         out = {}
         for name, fn in helpers.items():
             function = getattr(fn, "__func__", fn)
-            out[name] = self._charged(fn) if _returns_list(function) else fn
+            out[name] = self._charged(fn) if _charged_by_length(function) else fn
             if _parameters(function) == (1 if function is not fn else 0):
                 out[name] = self.once(out[name])
         return out
