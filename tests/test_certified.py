@@ -21,9 +21,10 @@ from vlb_gym.abstractor.beliefs import MAX_READINGS, numbers, readings, witnesse
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
-from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program, Set
-from vlb_gym.abstractor.search import (MAX_ORDERS, MAX_PROBES, PROBES, Found, Search,
+from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program, Set, Stop
+from vlb_gym.abstractor.search import (MAX_ORDERS, MAX_PROBES, MAX_USEFUL, PROBES, Found, Search,
                                         named_from_here, said)
+from vlb_gym.abstractor.statements import STOP
 from vlb_gym.abstractor.terms import Vocabulary, contexts
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
@@ -95,6 +96,53 @@ def test_the_search_finds_a_cheap_behavior_and_it_runs_the_same_in_the_runtime()
         spec_from_data(document, "<found>")
         assert search.tally.distinct <= search.tally.built
         assert search.seeds == [episode_seed(7, i) for i in range(30)]
+    finally:
+        search.close()
+
+
+CLEAR_START_RIGHT = Promise(expr=(
+    "primitives()[:1] == ['sense'] and ((primitives() == ['sense']) if any(is_obstacle(c) for c "
+    "in neighbours(start_cell())) else (primitives()[-1] == 'sense' and len(moves()) >= 1 and "
+    "all(m[1] == start_cell()[1] and m[0] > start_cell()[0] for m in moves()) and "
+    "(final_cell()[0] == 9 or is_obstacle((final_cell()[0] + 1, final_cell()[1])))))"))
+
+
+def test_a_behavior_that_stops_where_its_first_look_says_so_is_searched():
+    """"If the first look shows an obstacle next to you, stop; else go right while you can and
+    sense": ending the behavior where a guard read from the promise holds costs STOP plus the
+    guard, and the search finds a behavior that runs the same in the runtime."""
+    search = Search(GRID_ID, CLEAR_START_RIGHT, "sense where you start; if an obstacle is next "
+                    "to you, stop; else step right while you can, then sense", screen_seed=11)
+    try:
+        stop = Stop("any((label(p0) == 'obstacle' for p0 in adjacent(home)))")
+        assert stop in search.statements().at(STOP + 1)
+        found = search.find(600, max_programs=30_000)  # (a bound that does not hang on load)
+        assert found is not None and not isinstance(found.program.statements[-1], Stop)
+        assert search.rescreen(search.document(found, "clear_start_right", "")) is None
+    finally:
+        search.close()
+
+
+def test_statements_of_programs_that_keep_the_promise_on_new_probes_are_useful():
+    """A program that keeps the promise on probes no program before it kept it on all of lends
+    its statements after the first to every later prefix, at half their cost; one that keeps
+    it on fewer, or on none, lends nothing."""
+    search = Search(GRID_ID, HOME, REQUEST, screen_seed=7)
+    try:
+        sense, right = Act("sense", "current_cell()"), Act("navigate", "beside(home, 'right')")
+        home = If("home != current_cell()", (Act("navigate", "home"),))
+        search._learn((sense, right), (1, 4), frozenset())
+        assert search._useful == []
+        search._learn((sense, right), (1, 4), frozenset({0, 2}))
+        search._learn((sense, home), (1, 5), frozenset({2}))  # no new probe
+        assert search._useful == [(right, 4)]
+        search._learn((sense, right, home), (1, 4, 5), frozenset({1}))
+        assert search._useful == [(right, 4), (home, 5)]
+        for k in range(2 * MAX_USEFUL):
+            search._learn((sense, Act("navigate", "beside(home, 'up')") if k % 2 else
+                           Act("sense", "home"), Loop("True", (right,), k + 1)), (1, 2, 9),
+                          frozenset({3, 10 + k}))
+        assert len(search._useful) == MAX_USEFUL
     finally:
         search.close()
 
@@ -672,7 +720,8 @@ STEP_RIGHT_IF_LEFT_BLOCKED = Promise(expr=(
 
 def test_the_parts_a_belief_reads_are_read_where_the_whole_is_not(interface):
     """No belief reads ``primitives()``, so the conditional cannot be read whole; its test and
-    its first branch still are (a guard and a place), and the search finds the conditional."""
+    its first branch still are (a guard and a place), and the search finds the conditional (or
+    its equal: the end of the behavior where the guard does not hold, then the step)."""
     space = interface.search_space()
     read = dict(readings(STEP_RIGHT_IF_LEFT_BLOCKED.expr, space,
                          set(interface.make_judge().functions()),
@@ -686,7 +735,9 @@ def test_the_parts_a_belief_reads_are_read_where_the_whole_is_not(interface):
                     "left is an obstacle and the one on your right is free", screen_seed=5)
     try:
         found = search.find(600, max_programs=20_000)
-        assert found is not None and f"if {guard}: navigate(" in found.program.words()
+        assert found is not None
+        words = found.program.words()  # "if it holds, step" or "stop unless it holds; step"
+        assert f"if {guard}: navigate(" in words or f"stop if not ({guard}); navigate(" in words
         assert search.rescreen(search.document(found, "right_if_left_blocked", "")) is None
     finally:
         search.close()

@@ -1,6 +1,7 @@
 """The search's executor runs a program exactly as the behavior file it writes runs in the
 package's runtime: the same steps, and success or failure on the same episodes (Hypothesis over
-programs of the statement grammar, settings of the remembered cell ``mark`` among them)."""
+programs of the statement grammar, settings of the remembered cell ``mark`` and ends where a
+guard holds among them)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import gymnasium as gym
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from vlb_gym.abstractor.programs import Act, If, Loop, Program, Set
+from vlb_gym.abstractor.programs import Act, If, Loop, Program, Set, Stop
 from vlb_gym.abstractor.search import Search
 from vlb_gym.core.library import BehaviorLibrary, compile_spec
 from vlb_gym.core.runtime import BehaviorPolicy
@@ -38,7 +39,8 @@ statements = st.one_of(
     st.builds(If, st.sampled_from(GUARDS), bodies.filter(lambda b: len(b) <= 2)),
     st.builds(Loop, st.sampled_from(GUARDS), bodies, st.one_of(st.none(),
                                                                 st.integers(1, 3))),
-    st.builds(Set, st.just("mark"), st.sampled_from(MARKS)))
+    st.builds(Set, st.just("mark"), st.sampled_from(MARKS)),
+    st.builds(Stop, st.sampled_from(GUARDS)))
 programs = st.builds(lambda first, rest: Program((first, *rest)), acts,
                      st.lists(statements, max_size=4))
 ANYTHING = Promise(expr="len(primitives()) >= 0")
@@ -60,6 +62,9 @@ def runtime_steps(document, seed):
 @given(programs, st.integers(0, 2**32 - 1))
 @example(Program((SENSE, Set("mark", "frontier_cells()[0]"), Set("mark", "beside(mark, 'right')"),
                   Act("navigate", "mark"))), 0)  # a setting that reads the one before it
+@example(Program((SENSE, Loop("not goal_found()", (Act("navigate", "frontier_cells()[0]"), SENSE)),
+                  Set("mark", "current_cell()"), Stop("mark == home"),
+                  Act("navigate", "home"))), 3)  # an end that reads a setting before it
 def test_the_executor_and_the_runtime_agree(program, seed):
     search = Search(GRID_ID, ANYTHING, screen_seed=1)
     search.executor.max_steps = 500  # the env's own bound, as the runtime has it

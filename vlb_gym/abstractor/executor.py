@@ -28,8 +28,8 @@ from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import (Act, If, Set, Statement, Use, _list_of, _substitute, chosen_first,
-                       memory_updates)
+from .programs import (Act, If, Set, Statement, Stop, Use, _list_of, _substitute,
+                       chosen_first, memory_updates)
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
 
@@ -192,6 +192,10 @@ class Executor:
                 run.variables[statement.name] = self._value(statement.value, namespace)
             except _Failed as exc:
                 raise _Failed(f"{statement.words()}: {exc}") from None
+            return
+        if isinstance(statement, Stop):
+            if self._holds([statement.guard], namespace):
+                run.status = FINISHED
             return
         if isinstance(statement, Use):
             self._act(run, statement, namespace)

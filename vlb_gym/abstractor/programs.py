@@ -3,13 +3,14 @@
 The search (:mod:`vlb_gym.abstractor.search`) enumerates :class:`Program` s: a first
 primitive, then statements, each an :class:`Act` (run a primitive with a parameter
 expression), an :class:`If` (run its acts when a guard holds), a :class:`Loop` (run its acts
-while a guard holds, at most ``limit`` times when it has one) or a :class:`Set` (give a
-settable memory variable a value: remember something now). :meth:`Program.document`
-writes the behavior file that does exactly that: one node per act, edges whose guards, in
-file order, pick the next act, the env's memory variables kept on the way (a settable one only
-where the program reads it), a set variable assigned on the edges that leave the point it
-is set at, and a counter per loop with a limit. Every node is terminal: where no edge can be
-taken the behavior has finished, and its promise is judged.
+while a guard holds, at most ``limit`` times when it has one), a :class:`Stop` (end here when a
+guard holds) or a :class:`Set` (give a settable memory variable a value: remember something
+now). :meth:`Program.document` writes the behavior file that does exactly that: one node per
+act, edges whose guards, in file order, pick the next act (an end where a guard holds: the
+edges past it taken only where it does not), the env's memory variables kept on the way (a
+settable one only where the program reads it), a set variable assigned on the edges that leave
+the point it is set at, and a counter per loop with a limit. Every node is terminal: where no
+edge can be taken the behavior has finished, and its promise is judged.
 
 An act whose parameter picks from a list (``L[0]``, ``L[-1]``, ``L[argmin(...)]``) is entered
 only when the list is not empty: a loop that moves to the first of a list runs until the list
@@ -83,6 +84,17 @@ class Loop:
 
 
 @dataclass(frozen=True)
+class Stop:
+    """End the behavior here when ``guard`` holds (what follows runs only where it does not:
+    "if the first look shows an obstacle, stop; else search")."""
+
+    guard: str
+
+    def words(self) -> str:
+        return f"stop if {self.guard}"
+
+
+@dataclass(frozen=True)
 class Set:
     """Give the settable memory variable ``name`` the value of ``value`` (no primitive runs)."""
 
@@ -93,7 +105,7 @@ class Set:
         return f"{self.name} = {self.value}"
 
 
-Statement = Act | Use | If | Loop | Set
+Statement = Act | Use | If | Loop | Set | Stop
 
 
 @dataclass(frozen=True)
@@ -119,8 +131,9 @@ def reads(statement: Statement, names: frozenset[str]) -> bool:
 
 
 def acts(program: tuple[Statement, ...]) -> int:
-    """The statements of ``program`` that act (all but its :class:`Set` s)."""
-    return sum(not isinstance(s, Set) for s in program)
+    """The statements of ``program`` that act (all but its :class:`Set` s and :class:`Stop`
+    s)."""
+    return sum(not isinstance(s, (Set, Stop)) for s in program)
 
 
 def memory_updates(space: SearchSpace, primitive: str) -> list[tuple[str, str]]:
@@ -246,7 +259,7 @@ class _Writer:
     def _acts(self) -> list[tuple[str, Act | Use]]:
         out = [("s0", self.statements[0])]
         for k, statement in enumerate(self.statements[1:], 1):
-            if isinstance(statement, Set):
+            if isinstance(statement, (Set, Stop)):
                 continue
             body = (statement,) if isinstance(statement, (Act, Use)) else statement.body
             out += [(self._node(k, j), act) for j, act in enumerate(body)]
@@ -263,6 +276,8 @@ class _Writer:
                      [(name, value), *[(n, _substitute(e, name, value) if n == name else e)
                                        for n, e in assignments]], node)  # edge sets a name once)
                     for conditions, assignments, node in self._enter(k + 1)]
+        if isinstance(statement, Stop):  # the end first: what follows is taken only where
+            return [([statement.guard], [], END)] + self._enter(k + 1)  # it is not
         if isinstance(statement, Use):
             return [([], [], self._node(k))]
         if isinstance(statement, Act):

@@ -23,6 +23,10 @@ equivalence on a few episodes can hide what only rarer ones need (a goal right b
 no corner reachable): a statement that acts on none of the probes is dropped as acting like its
 parent, and the episode that tells them apart brings it back.
 
+The search *learns which statements are useful* (:meth:`Search._learn`): a program that keeps
+the promise on a set of probes no program before it kept it on all of lends its statements to
+every later prefix, at :data:`USEFUL_DISCOUNT` of their cost.
+
 :func:`witnesses` tries a promise on the env's least behaviors (stop at once, ...) first: a
 promise one of them keeps asks for nothing more than it does.
 """
@@ -48,7 +52,7 @@ from vlb_gym.wrappers.robustness import RobustnessWrapper
 
 from .beliefs import literals, numbers, readings
 from .executor import FAILED, OPEN, Executor, Run
-from .programs import Act, Loop, Program, Set, Statement, acts, reads
+from .programs import Act, Loop, Program, Set, Statement, Stop, acts, reads
 from .statements import Statements
 from .terms import BOUND, Bank, Vocabulary, call_name, conforms, contexts, infer_kind
 
@@ -62,6 +66,9 @@ LOOK_FURTHER_MIN_SECONDS = 10.0  # (a search bounded by time: see Search.find)
 MAX_STATEMENTS = 4
 MAX_LEVEL = 24
 MAX_FAILURES_KEPT = 5
+USEFUL = 0  # the heap's level of the useful statements (see Search._learn)
+USEFUL_DISCOUNT = 0.5  # of a useful statement's cost, where later prefixes try it
+MAX_USEFUL = 64
 
 
 def fresh_seed() -> int:
@@ -142,6 +149,7 @@ class _Node:
     cost: int
     runs: list[Run]
     progress: float = 0.0  # how close it comes to the promise on the probes, in [0, 1]
+    costs: tuple[int, ...] = ()  # each statement's
 
     @property
     def steps(self) -> float:
@@ -188,6 +196,9 @@ class Search:
         self._settable = {m.name for m in space.memory if m.settable}
         self._cheap = cheap
         self._statements: Statements | None = None
+        self._useful: list[tuple[Statement, int]] = []  # statements (and their costs) of
+        # programs that newly kept the promise on a set of probes, and those sets:
+        self._covered: list[frozenset[int]] = []
 
     def close(self) -> None:
         self.env.close()
@@ -353,21 +364,28 @@ class Search:
                         until is not None and self.tally.built >= until):
                     break
                 priority, _, node, level, index = heapq.heappop(heap)
-                items = statements.firsts(level) if not node.program else statements.at(level)
-                if index + 1 < len(items):
-                    heapq.heappush(heap, (priority, next(order), node, level, index + 1))
-                if index == 0 and level < MAX_LEVEL:
-                    heapq.heappush(heap, (node.priority(level + 1), next(order), node,
-                                          level + 1, 0))
-                if index >= len(items):
-                    continue
-                child = self._child(node, items[index], node.cost + level, seen)
+                if level == USEFUL:
+                    self._push_useful(heap, order, node, index + 1)
+                    statement, cost = self._useful[index]
+                else:
+                    items = statements.firsts(level) if not node.program else \
+                        statements.at(level)
+                    if index + 1 < len(items):
+                        heapq.heappush(heap, (priority, next(order), node, level, index + 1))
+                    if index == 0 and level < MAX_LEVEL:
+                        heapq.heappush(heap, (node.priority(level + 1), next(order), node,
+                                              level + 1, 0))
+                    if index >= len(items):
+                        continue
+                    statement, cost = items[index], level
+                child = self._child(node, statement, node.cost + cost, seen)
                 if child is None:
                     continue
                 grown = [child]
                 if acts(child.program) < MAX_STATEMENTS and any(
                         r.status == OPEN for r in child.runs):
                     heapq.heappush(heap, (child.priority(1), next(order), child, 1, 0))
+                    self._push_useful(heap, order, child, 0)
                     grown += [done for act in (completions if child.program else ())
                               if (max_programs is None or self.tally.built < max_programs)
                               and (done := self._child(child, act, child.cost + 1, seen))]
@@ -392,8 +410,10 @@ class Search:
 
     def _accept(self, node: _Node, skip: frozenset[str]) -> int | None:
         """The primitives ``node``'s program runs on the screening episodes if it keeps the
-        promise on every one, else None."""
-        if node.progress < 1.0 or Program(node.program).words() in skip:
+        promise on every one, else None (one that ends with a :class:`Stop` is its parent
+        again)."""
+        if node.progress < 1.0 or isinstance(node.program[-1], Stop) or \
+                Program(node.program).words() in skip:
             return None
         return self._whole(node)
 
@@ -429,8 +449,33 @@ class Search:
             return None
         seen.add(key)
         self.tally.distinct += 1
-        progress = sum(self.executor.progress(r) for r in runs) / len(runs)
-        return _Node((*node.program, statement), cost, runs, progress)
+        closeness = [self.executor.progress(r) for r in runs]
+        program, costs = (*node.program, statement), (*node.costs, cost - node.cost)
+        self._learn(program, costs, frozenset(e for e, c in enumerate(closeness) if c >= 1.0))
+        return _Node(program, cost, runs, sum(closeness) / len(runs), costs)
+
+    def _push_useful(self, heap: list[Any], order: Any, node: _Node, index: int) -> None:
+        """Queue ``node``'s child by useful statement ``index`` (if there is one yet), at
+        :data:`USEFUL_DISCOUNT` of the statement's cost."""
+        if index < len(self._useful):
+            level = max(1, int(self._useful[index][1] * USEFUL_DISCOUNT))
+            heapq.heappush(heap, (node.priority(level), next(order), node, USEFUL, index))
+
+    def _learn(self, program: tuple[Statement, ...], costs: tuple[int, ...],
+               kept: frozenset[int]) -> None:
+        """Where ``program`` keeps the promise on the probes ``kept``, a set no program before
+        it kept it on all of, its statements after the first become *useful* (at most
+        :data:`MAX_USEFUL`): every later prefix tries them at :data:`USEFUL_DISCOUNT` of their
+        cost, their programs keeping the whole (just-in-time learning, as Probe's bottom-up search learns from partial solutions: a
+        behavior that does the task where the first look is clear, and one that stops where
+        it is not, share their statements with each other's prefixes)."""
+        if not kept or any(kept <= covered for covered in self._covered):
+            return
+        self._covered.append(kept)
+        known = {statement for statement, _ in self._useful}
+        for statement, cost in zip(program[1:], costs[1:]):
+            if statement not in known and len(self._useful) < MAX_USEFUL:
+                self._useful.append((statement, cost))
 
     def _whole(self, node: _Node) -> int | None:
         """The primitives ``node``'s program, ending there, runs on the screening episodes if

@@ -12,11 +12,13 @@ moving in a direction until blocked is as plain a request as there is. Such a lo
 early, "until" a condition the promise reads at cost 1 holds (a goal has come into sight),
 costs 1 more. So does a loop over a list (1 plus its acts) ended early by any condition of
 cost 1 ("explore until a goal is in sight"), and 1 more again after at most ``k`` rounds, ``k``
-a number the request or promise gives ("but give up after five moves").
-Bodies hold one to :data:`MAX_BODY` acts. A library behavior, run whole, is a statement of
-cost :data:`USE`; setting a settable memory variable to a term of its kind ("remember the goal
-in view now"), :data:`SET` plus the term (the search sets one once, right after a loop). :meth:`Statements.at` lists those of one cost,
-computed once and capped at :data:`MAX_PER_COST`.
+a number the request or promise gives ("but give up after five moves"). Ending the behavior
+where a guard holds ("if the first look shows an obstacle, stop there") costs :data:`STOP`
+plus the guard. Bodies hold one to :data:`MAX_BODY` acts. A library behavior, run whole, is a
+statement of cost :data:`USE`; setting a settable memory variable to a term of its kind
+("remember the goal in view now"), :data:`SET` plus the term (the search sets one once, right
+after a loop). :meth:`Statements.at` lists those of one cost, computed once and capped at
+:data:`MAX_PER_COST`.
 """
 
 from __future__ import annotations
@@ -27,7 +29,8 @@ from typing import Any
 
 from vlb_gym.core.search_space import Parameter, SearchSpace
 
-from .programs import Act, If, Loop, Set, Statement, Use, _list_of, _mentions, conjunction
+from .programs import (Act, If, Loop, Set, Statement, Stop, Use, _list_of, _mentions,
+                       conjunction)
 from .terms import Bank, Term, negation
 
 MAX_BODY = 3
@@ -35,6 +38,7 @@ MAX_PER_COST = 40_000
 GUARD = 2  # what a guard that is not a reading of the promise costs more
 USE = 2  # what running a library behavior costs
 SET = 1  # what setting a memory variable costs, besides its value
+STOP = 2  # what ending the behavior where a guard holds costs, besides the guard
 
 
 class Statements:
@@ -106,7 +110,7 @@ class Statements:
 
     def _generate(self, cost: int) -> Iterator[Statement]:
         """Loops and conditionals guarded by their first act (the plainest of a cost), acts,
-        library behaviors, then the other loops and conditionals with bodies of each length in
+        library behaviors, settings, ends where a guard holds, then the other loops and conditionals with bodies of each length in
         turn (one of each length at a time: where :data:`MAX_PER_COST` cuts, no
         length of body is cut whole)."""
         yield from self._idioms(cost)
@@ -114,6 +118,7 @@ class Statements:
         if cost == USE:
             yield from (Use(b) for b in self.behaviors)
         yield from self.sets(cost)
+        yield from (Stop(guard) for guard in self.guards(cost - STOP))
         families = [self._compound(cost, length) for length in range(1, MAX_BODY + 1)]
         while families:
             for family in list(families):
