@@ -48,6 +48,8 @@ class GridState:
     distances: dict[int, np.ndarray] = field(default_factory=dict)  # target -> steps-to-go
     goal_found: bool = False  # some label is 'goal' (kept by sense, the only labeller)
     trail: list[np.ndarray] = field(default_factory=list)  # trajectories, for rendering
+    _at: tuple[np.ndarray, tuple[int, int]] | None = field(default=None, init=False,
+                                                          repr=False, compare=False)
 
     @property
     def size(self) -> int:
@@ -55,8 +57,12 @@ class GridState:
 
     @property
     def cell(self) -> tuple[int, int]:
-        """The cell the agent occupies."""
-        return cell_of(self.position, self.size)
+        """The cell the agent occupies (computed once per position: a move assigns a new
+        array, never writes into this one)."""
+        at = self._at
+        if at is None or at[0] is not self.position:
+            at = self._at = (self.position, cell_of(self.position, self.size))
+        return at[1]
 
     def cell_of(self, position: np.ndarray) -> tuple[int, int]:
         """The cell containing ``position``."""
