@@ -9,6 +9,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import gymnasium as gym
 import pytest
@@ -143,6 +144,26 @@ def test_statements_of_programs_that_keep_the_promise_on_new_probes_are_useful()
                            Act("sense", "home"), Loop("True", (right,), k + 1)), (1, 2, 9),
                           frozenset({3, 10 + k}))
         assert len(search._useful) == MAX_USEFUL
+    finally:
+        search.close()
+
+
+def test_no_prefix_is_extended_twice_by_one_statement(monkeypatch):
+    """A useful statement, a completion and the same statement at its own cost are run once
+    from one prefix (a scoop's statement takes seconds to run)."""
+    search = Search(GRID_ID, CLEAR_START_RIGHT, "sense where you start; if an obstacle is next "
+                    "to you, stop; else step right while you can, then sense", screen_seed=11)
+    extended: list[tuple[int, Any]] = []
+    child = Search._child
+
+    def recorded(self, node, statement, cost, seen):
+        extended.append((id(node), statement))
+        return child(self, node, statement, cost, seen)
+    monkeypatch.setattr(Search, "_child", recorded)
+    try:
+        search.find(600, max_programs=5_000)
+        assert search._useful and len(extended) >= search.tally.built
+        assert len(set(extended)) == len(extended)
     finally:
         search.close()
 

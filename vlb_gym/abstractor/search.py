@@ -150,6 +150,7 @@ class _Node:
     runs: list[Run]
     progress: float = 0.0  # how close it comes to the promise on the probes, in [0, 1]
     costs: tuple[int, ...] = ()  # each statement's
+    tried: set[Statement] = field(default_factory=set)  # the statements it was extended by
 
     @property
     def steps(self) -> float:
@@ -378,6 +379,10 @@ class Search:
                     if index >= len(items):
                         continue
                     statement, cost = items[index], level
+                if statement in node.tried:  # (a useful statement or a completion, tried at its
+                    # own cost too)
+                    continue
+                node.tried.add(statement)
                 child = self._child(node, statement, node.cost + cost, seen)
                 if child is None:
                     continue
@@ -386,9 +391,13 @@ class Search:
                         r.status == OPEN for r in child.runs):
                     heapq.heappush(heap, (child.priority(1), next(order), child, 1, 0))
                     self._push_useful(heap, order, child, 0)
-                    grown += [done for act in (completions if child.program else ())
-                              if (max_programs is None or self.tally.built < max_programs)
-                              and (done := self._child(child, act, child.cost + 1, seen))]
+                    for act in completions if child.program else ():
+                        if max_programs is not None and self.tally.built >= max_programs:
+                            break
+                        child.tried.add(act)
+                        done = self._child(child, act, child.cost + 1, seen)
+                        if done is not None:
+                            grown.append(done)
                 for candidate in grown:
                     steps = self._accept(candidate, skip)
                     if steps is None:
