@@ -115,7 +115,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (cell, distance, distance_text, exhausted, first_goal_sense,
+from benchmarks.synthesis_tasks import (ALTERNATE as _ALTERNATE, FINAL as _F, FRESH as _FRESH,
+                                        LAST_SENSE as _L, MOVE as _MOVE, START as _S,
+                                        START_I as _S0, START_J as _S1, STAY as _STAY, cell,
+                                        distance, distance_text, exhausted, first_goal_sense,
                                         first_reaching, free_cell, goals_shown, grams_in_receiver,
                                         grams_spilled, held_out_task, indices, known_after,
                                         label_sensed, neighbours, obstacles_beside, on_grid, onto,
@@ -381,12 +384,6 @@ _task = held_out_task(REFERENCES)
 
 # The promises' language allows at most 3 comprehension loops in one expression (all of its
 # loops counted together) and 400 syntax nodes: these are written to stay within that.
-_S, _S0, _S1 = "start_cell()", "start_cell()[0]", "start_cell()[1]"
-_L, _F = "sensed()[-1]", "final_cell()"  # where the last sense was taken; where it ended
-# after the last sense: nothing, or one move (the last sense is then the step before it)
-_STAY = "primitives()[-1] == 'sense'"
-_MOVE = "primitives()[-2:] == ['sense', 'navigate']"
-_FRESH = "len(known_before_last()) < len(known_cells())"  # the last step labelled something
 # nothing more was to be found before the last sense (it labelled something, or it is not so now)
 _NOT_BEFORE = f"({_FRESH} or not explored_all())"
 # a list's value allowed where the last sense is the rule's (1) or, with nothing more to find
@@ -403,10 +400,6 @@ _ONTO_GOAL_SHORT = f"steps_after_goal() == (0 if is_goal({_L}) else 1) and is_go
 # a sense after every move and nowhere else: the steps up to the last sense
 _TURNS = "primitives()[:2 * len(sensed()) - 1] == ['sense'] + ['navigate', 'sense'] * " \
          "(len(sensed()) - 1) and sensed()[1:] == moves()[:len(sensed()) - 1]"
-# a sense first, then a move and a sense in turn (each sense where the move before it ended, as
-# the certificates say), up to the last sense
-_ALTERNATE = "primitives()[:2 * len(sensed()) - 1] == ['sense'] + ['navigate', 'sense'] * " \
-             "(len(sensed()) - 1)"
 _K10, _K20, _K80, _K100 = indices(10), indices(20), indices(80), indices(100)
 _NEAR_C = distance_text("sensed()[k]", "c")  # from where the sense k was taken to c
 

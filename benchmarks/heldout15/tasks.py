@@ -139,7 +139,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (cell, distance, distance_text, exhausted, first_goal_sense,
+from benchmarks.synthesis_tasks import (ALTERNATE as _ALTERNATE, FINAL as _F, FRESH as _FRESH,
+                                        LAST_SENSE as _L, MOVE as _MOVE, START as _S,
+                                        START_I as _S0, START_J as _S1, STAY as _STAY, cell,
+                                        distance, distance_text, exhausted, first_goal_sense,
                                         first_reaching, free_cell, goals_shown, grams_in_receiver,
                                         grams_spilled, held_out_task, indices, known_after,
                                         label_sensed, obstacles_beside, onto, onto_goal_seen,
@@ -425,21 +428,11 @@ _task = held_out_task(REFERENCES)
 
 # The promises' language allows at most 3 comprehension loops in one expression (all of its
 # loops counted together) and 400 syntax nodes: these are written to stay within that.
-_S, _S0, _S1 = "start_cell()", "start_cell()[0]", "start_cell()[1]"
-_L, _F = "sensed()[-1]", "final_cell()"  # where the last sense was taken; where it ended
-# after the last sense: nothing, or one move (the last sense is then the step before it)
-_STAY = "primitives()[-1] == 'sense'"
-_MOVE = "primitives()[-2:] == ['sense', 'navigate']"
-_FRESH = "len(known_before_last()) < len(known_cells())"  # the last step labelled something
 # after the sense that first shows a goal: nothing on a goal, else one move onto one it showed
 # (the agent ends on a goal, the cell of the goal sense with no step after it if that cell is a
 # goal, else one next to it with the one step after it: a sense moves nothing)
 _ONTO_GOAL = f"steps_after_goal() == (0 if is_goal({_L}) else 1) and is_goal({_F}) and " \
              f"{_F} in [{_L}] + neighbours({_L})"
-# a sense first, then a move and a sense in turn (each sense where the move before it ended, as
-# the certificates say), up to the last sense
-_ALTERNATE = "primitives()[:2 * len(sensed()) - 1] == ['sense'] + ['navigate', 'sense'] * " \
-             "(len(sensed()) - 1)"
 # after the last sense only moves, so that the last sense is the one that first showed a goal
 _ONLY_MOVES = "primitives()[len(primitives()) - steps_after_goal():] == ['navigate'] * " \
               "steps_after_goal()"

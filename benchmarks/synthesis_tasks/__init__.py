@@ -182,6 +182,19 @@ def indices(n: int) -> str:
     return "[" + ", ".join(str(k) for k in range(n)) + "]"
 
 
+# Parts of held-out promises (the judge's outcome language) that several sets write alike.
+START, START_I, START_J = "start_cell()", "start_cell()[0]", "start_cell()[1]"
+LAST_SENSE, FINAL = "sensed()[-1]", "final_cell()"  # where the last sense was; where it ended
+# after the last sense: nothing, or one move (the last sense is then the step before it)
+STAY = "primitives()[-1] == 'sense'"
+MOVE = "primitives()[-2:] == ['sense', 'navigate']"
+FRESH = "len(known_before_last()) < len(known_cells())"  # the last step labelled something
+# a sense first, then a move and a sense in turn (each sense where the move before it ended, as
+# the certificates say), up to the last sense
+ALTERNATE = "primitives()[:2 * len(sensed()) - 1] == ['sense'] + ['navigate', 'sense'] * " \
+            "(len(sensed()) - 1)"
+
+
 def held_out_task(references: Path) -> Callable[..., Task]:
     """The task maker of a held-out set whose references lie in ``references``: ``(name,
     difficulty, check, description, promise, env_id)``, the reference ``<name>.json``, no library
