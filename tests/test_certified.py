@@ -22,11 +22,12 @@ from vlb_gym.abstractor.beliefs import MAX_READINGS, numbers, readings, witnesse
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
-from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program, Set, Stop
+from vlb_gym.abstractor.programs import CHOSEN, Act, If, Loop, Program, Set, Stop, _loops
 from vlb_gym.abstractor.search import (MAX_ORDERS, MAX_PROBES, MAX_USEFUL, PROBES, Found, Search,
                                         named_from_here, said)
 from vlb_gym.abstractor.statements import STOP
 from vlb_gym.abstractor.terms import Vocabulary, contexts
+from vlb_gym.core.expressions import MAX_GENERATORS
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.spec import Promise, spec_from_data
@@ -120,6 +121,49 @@ def test_a_behavior_that_stops_where_its_first_look_says_so_is_searched():
         found = search.find(600, max_programs=30_000)  # (a bound that does not hang on load)
         assert found is not None and not isinstance(found.program.statements[-1], Stop)
         assert search.rescreen(search.document(found, "clear_start_right", "")) is None
+    finally:
+        search.close()
+
+
+def test_a_place_read_from_a_promise_of_many_loops_is_sought_through_a_named_condition():
+    """Held-out set 14's "then onto the known empty cell next to the goal nearest the start":
+    the promise's reading of the cell the behavior ends on uses the expression language's
+    three comprehension loops, so filtering a list by it would take a fourth. It becomes a
+    function of the behavior, ``promised_at(c)``, the search seeks the place through it, and
+    the behavior file it writes declares the function and runs the same in the runtime."""
+    from benchmarks.synthesis_eval import load_tasks
+    task = next(t for t in load_tasks(ROOT / "benchmarks" / "heldout14" / "tasks.py")
+                if t.name == "homeward_side_of_goal")
+    search = Search(GRID_ID, Promise(expr=task.promise), task.description, screen_seed=777)
+    try:
+        args, condition = search.statements() and search.functions["promised_at"]
+        assert args == ("c",) and _loops(ast.parse(condition, mode="eval")) == MAX_GENERATORS
+        seek = [t.text for t in search.statements().bank.of("list[cell]", 0, 2)]
+        assert "[c for c in explored() if promised_at(c)]" in seek
+        found = search.find(600, max_programs=60_000)
+        assert found is not None and "promised_at(c)" in found.program.words()
+        document = search.document(found, "homeward_side_of_goal", "")
+        assert document["functions"]["promised_at"] == {"args": ["c"], "expr": condition}
+        assert search.rescreen(document) is None
+    finally:
+        search.close()
+
+
+def test_a_reading_of_the_bound_cell_is_named_only_where_it_loops_and_the_language_takes_it():
+    """Readings without comprehension loops stay inline; none but bool readings of the bound
+    cell filter a list (an int or a cell is not a condition)."""
+    search = Search(GRID_ID, Promise(expr="abs(final_cell()[0] - start_cell()[0]) + "
+                                          "abs(final_cell()[1] - start_cell()[1]) == 2"),
+                    "end two steps from the start", screen_seed=3)
+    try:
+        bank_ = search.statements().bank
+        assert not any(name.startswith("promised_at") for name in search.functions)
+        bound = {text: kind for kind, text, depth in bank_.vocabulary.fragments if depth == 1}
+        assert "abs(c[0] - home[0])" in bound and "c[0]" in bound  # ints of the bound cell
+        conditions = [ast.unparse(ast.parse(t.text).body[0].value.generators[0].ifs[0])
+                      for t in bank_.of("list[cell]", 0, 2) if " if " in t.text]
+        assert "abs(c[0] - home[0]) + abs(c[1] - home[1]) == 2" in conditions
+        assert all(bound.get(condition, "bool") == "bool" for condition in conditions)
     finally:
         search.close()
 
@@ -682,17 +726,41 @@ def test_a_promise_of_many_quantifiers_gives_a_bounded_number_of_lists(interface
 
 @settings(max_examples=200, deadline=None)
 @given(st.lists(st.integers(-5, 5), max_size=8), st.integers(-5, 5), st.integers(-5, 5),
-       st.sampled_from(["any", "all"]))
-def test_a_quantifier_holds_as_its_list_of_places_says(xs, low, high, quantifier):
+       st.sampled_from(["any", "all"]), st.sampled_from(["n * n < {}", "n in {}", "n not in {}"]),
+       st.lists(st.integers(-5, 5), max_size=4))
+def test_a_quantifier_holds_as_its_list_of_places_says(xs, low, high, quantifier, test, ys):
     """``any(E ...)`` holds exactly where its witnesses are some, ``all(E ...)`` exactly where
-    nothing breaks it; each listed element keeps the filter and E (breaks E for all)."""
-    expr = f"{quantifier}(n * n < {high * high} for n in {xs} if n > {low})"
+    nothing breaks it; each listed element keeps the filter and E (breaks E for all; of ``x in
+    L``, ``x not in L``)."""
+    e = test.format(high * high if test.startswith("n *") else ys)
+    expr = f"{quantifier}({e} for n in {xs} if n > {low})"
     (places,) = witnesses(ast.parse(expr, mode="eval").body)
     listed = eval(ast.unparse(places))  # noqa: S307 - built here
     holds = eval(expr)  # noqa: S307
     assert holds == (bool(listed) if quantifier == "any" else not listed)
-    wanted = [n for n in xs if n > low and (n * n < high * high) == (quantifier == "any")]
+    wanted = [n for n in xs if n > low and eval(e) == (quantifier == "any")]  # noqa: S307
     assert listed == wanted
+    assert "not n in" not in ast.unparse(places)
+
+
+def test_a_loop_over_the_places_an_all_speaks_of_is_tried_before_its_first_act():
+    """"Move onto every goal": the goals not yet moved onto, read from the promise's ``all``,
+    are a loop's list, tried after every prefix before the single act that goes to the first
+    of them (which acts alike where one is left); the search finds the loop."""
+    search = Search(GRID_ID, Promise(expr="all(g in moves() for g in reachable_goals())"),
+                    "move onto every goal you can reach", screen_seed=777)
+    try:
+        statements = search.statements()
+        places = "[p0 for p0 in believed_reachable_goals() if p0 not in path[1:]]"
+        assert statements.bank.vocabulary.each == {places}
+        act = Act("navigate", f"{places}[0]")
+        completions = statements.completions()
+        assert completions.index(Loop("True", (act,))) < completions.index(act)
+        found = search.find(600, max_programs=20_000)
+        assert found is not None and found.program.statements[-1] == Loop("True", (act,))
+        assert search.rescreen(search.document(found, "visit_all_goals", "")) is None
+    finally:
+        search.close()
 
 
 FREE = "if not is_obstacle(n)"

@@ -23,14 +23,20 @@ TARGETS = ["current_cell()", "home", "frontier_cells()[0]", "explored()[-1]", "g
            "beside(current_cell(), 'right')", "[c for c in adjacent() if is_free(c)][0]",
            "path[-2]", "[c for c in adjacent(home) if c not in path][0]",
            "[c for c in explored() if c not in path][-1]",  # (these two read what they update)
-           "mark", "beside(mark, 'up')"]
+           "mark", "beside(mark, 'up')",
+           "[c for c in explored() if promised_at(c)][0]", "believed_goals()[-1]"]
 MARKS = ["goal_cell()", "current_cell()", "frontier_cells()[0]", "path[-2]",
          "beside(current_cell(), 'left')", "beside(mark, 'right')"]
 GUARDS = ["goal_found()", "not goal_found()", "len(explored()) < 12", "True",
           "is_free(beside(current_cell(), 'up'))", "len(path) < 4",
           "len([c for c in explored() if label(c) == 'goal']) == 0", "home != current_cell()",
           "is_free(beside(current_cell(), 'right'))", "mark != current_cell()", "is_free(mark)",
-          "len([c for c in frontier_cells() if c != mark]) > 0"]
+          "len([c for c in frontier_cells() if c != mark]) > 0", "len(believed_goals()) > 0",
+          "any(promised_at(c) for c in adjacent())"]
+FUNCTIONS = {  # functions of the behavior, as the search names a promise's readings
+    "believed_goals": ((), "[k for k in explored() if label(k) == 'goal']"),
+    "promised_at": (("c",), "c != home and any(label(n) == 'goal' for n in adjacent(c)) "
+                            "and c not in believed_goals()")}
 
 acts = st.one_of(st.just(SENSE), st.sampled_from(TARGETS).map(lambda t: Act("navigate", t)))
 bodies = st.lists(acts, min_size=1, max_size=3).map(tuple)
@@ -65,13 +71,18 @@ def runtime_steps(document, seed):
 @example(Program((SENSE, Loop("not goal_found()", (Act("navigate", "frontier_cells()[0]"), SENSE)),
                   Set("mark", "current_cell()"), Stop("mark == home"),
                   Act("navigate", "home"))), 3)  # an end that reads a setting before it
+@example(Program((SENSE, Loop("not goal_found()", (Act("navigate", "frontier_cells()[0]"), SENSE)),
+                  Act("navigate", "[c for c in explored() if promised_at(c)][0]"))), 5)
+# (a function of the behavior calling another)
 def test_the_executor_and_the_runtime_agree(program, seed):
     search = Search(GRID_ID, ANYTHING, screen_seed=1)
     search.executor.max_steps = 500  # the env's own bound, as the runtime has it
+    for name, (args, text) in FUNCTIONS.items():
+        assert search._name(name, args, text, bool(args), [])
     try:
         run = search._run(seed, program.statements)
         held = search.executor.judge(run) is None
-        document = program.document(search.space, "p", "", GRID_ID)
+        document = program.document(search.space, "p", "", GRID_ID, search.functions)
         document["promise"] = ANYTHING.model_dump()
         success, steps = runtime_steps(document, seed)
     finally:

@@ -330,10 +330,12 @@ def extremes(tree: ast.expr) -> list[ast.expr]:
 
 
 def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[str],
-             variable: str = "c") -> list[tuple[str, bool]]:
+             variable: str = "c", each: set[str] | None = None) -> list[tuple[str, bool]]:
     """Decision expressions read from ``promise`` (see the module's docstring): each as
     (text, whether it uses ``variable``), largest first, each once. ``outcome`` are the env's
-    outcome helper names, ``decision`` the names a decision expression may use."""
+    outcome helper names, ``decision`` the names a decision expression may use; ``each``,
+    where given, gets the readings that list the places an ``all`` speaks of (every one to be
+    seen to)."""
     if not space.beliefs or space.here is None:
         return []
     try:
@@ -359,6 +361,8 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
                 if free <= known | ({variable} if bound else set()) \
                         and (variable in free) == bound:
                     out.setdefault(ast.unparse(part), bound)
+                    if each is not None and part is not node and node.func.id == "all":
+                        each.add(ast.unparse(part))
     return list(out.items())[:MAX_READINGS]
 
 
@@ -372,12 +376,20 @@ def witnesses(node: ast.expr) -> list[ast.expr]:
         return []
     test = copy.deepcopy(node.args[0].elt)
     if node.func.id == "all":
-        test = ast.UnaryOp(ast.Not(), test)
+        test = _negation(test)
     test = ast.BoolOp(ast.And(), [*copy.deepcopy(generator.ifs), test]) if generator.ifs else test
     name = generator.target.id
     return [ast.fix_missing_locations(ast.ListComp(ast.Name(name, ast.Load()), [
         ast.comprehension(ast.Name(name, ast.Store()), copy.deepcopy(generator.iter), [test],
                           0)]))]
+
+
+def _negation(test: ast.expr) -> ast.expr:
+    """``not test``; of ``x in L``, ``x not in L`` (and the other way round)."""
+    flipped = {ast.In: ast.NotIn, ast.NotIn: ast.In}
+    if isinstance(test, ast.Compare) and len(test.ops) == 1 and type(test.ops[0]) in flipped:
+        return ast.Compare(test.left, [flipped[type(test.ops[0])]()], test.comparators)
+    return ast.UnaryOp(ast.Not(), test)
 
 
 def _readable(reader: _Reader, node: ast.AST) -> list[ast.AST]:

@@ -23,7 +23,7 @@ from vlb_gym.core.expressions import BUILTINS, Expression, guard_namespace
 from vlb_gym.core.helpers import arity
 from vlb_gym.core.promise import Claim, Episode, Judging
 from vlb_gym.core.search_space import SearchSpace
-from vlb_gym.core.signatures import BUILTIN_SIGNATURES, helper_signatures
+from vlb_gym.core.signatures import BOOL, BUILTIN_SIGNATURES, Signature, helper_signatures
 from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
@@ -93,6 +93,7 @@ class Executor:
                        **{m.name: -1 for m in space.memory}, **{f"n{k}": -1 for k in range(16)}}
         self._signatures = {**BUILTIN_SIGNATURES, **helper_signatures(functions)}
         self._expressions: dict[str, Expression] = {}
+        self._functions: dict[str, Expression] = {}  # the behavior's own, by name
         self._judging = Judging(interface)
         judge_names = {**{n: None for n in BUILTINS},
                        **{n: arity(f) for n, f in self._judging.helpers.functions().items()}}
@@ -111,6 +112,16 @@ class Executor:
             typecheck(text, self._signatures, text)
             self._expressions[text] = found
         return found
+
+    def define(self, name: str, args: tuple[str, ...], text: str, condition: bool) -> None:
+        """Let programs call ``name(*args)``, whose value is ``text``'s (a function of the
+        behavior file :meth:`~vlb_gym.abstractor.programs.Program.document` writes; a
+        ``condition`` is a bool); ExpressionError if the language refuses ``text``."""
+        self._functions[name] = Expression(text, {**self._names, **{a: -1 for a in args}}, name,
+                                           args=args)
+        self._names[name] = len(args)
+        self._signatures[name] = Signature(len(args), len(args),
+                                           **({"returns": BOOL} if condition else {}))
 
     def _value(self, text: str, namespace: dict[str, Any]) -> Any:
         try:
@@ -179,6 +190,9 @@ class Executor:
             raise _Failed(str(exc)) from None
         namespace = guard_namespace(self._static, self.budget)
         namespace.update(run.variables)
+        for name, function in self._functions.items():  # as the runtime does
+            value = function.evaluate(namespace)
+            namespace[name] = value if function.args else self.budget.once(value)
         return namespace
 
     def _holds(self, conditions: list[str], namespace: dict[str, Any]) -> bool:

@@ -117,10 +117,13 @@ class Program:
     def words(self) -> str:
         return "; ".join(s.words() for s in self.statements)
 
-    def document(self, space: SearchSpace, name: str, description: str, env_id: str
+    def document(self, space: SearchSpace, name: str, description: str, env_id: str,
+                 functions: dict[str, tuple[tuple[str, ...], str]] | None = None
                  ) -> dict[str, Any]:
-        """The behavior file of this program (see the module's docstring)."""
-        return _Writer(self, space).document(name, description, env_id)
+        """The behavior file of this program (see the module's docstring); ``functions``
+        (name -> its arguments and expression) are those its expressions may call, written
+        into the file where they do (or where one written does)."""
+        return _Writer(self, space).document(name, description, env_id, functions or {})
 
 
 @lru_cache(maxsize=65536)
@@ -329,7 +332,8 @@ class _Writer:
                                             for name, update in updates]
         return [(name, _substitute(update, "PARAM", act.param)) for name, update in updates]
 
-    def document(self, name: str, description: str, env_id: str) -> dict[str, Any]:
+    def document(self, name: str, description: str, env_id: str,
+                 called: dict[str, tuple[tuple[str, ...], str]]) -> dict[str, Any]:
         acts = dict(self._acts())
         edges = []
         functions: dict[str, str] = {}  # condition -> the name of the function that holds it
@@ -374,8 +378,14 @@ class _Writer:
                 variables[f"n{k}"] = "0"
         if any(isinstance(act, Act) and chosen_first(self.space, act) for _, act in self._acts()):
             variables[CHOSEN] = self.space.here[1]  # type: ignore[index]
-        named = {"functions": {function: {"args": [], "expr": condition}
-                               for condition, function in functions.items()}} if functions else {}
+        declared: dict[str, dict[str, Any]] = {}
+        for function, (args, text) in reversed(called.items()):  # (later ones call earlier)
+            if _mentions(read, function) or any(_mentions(f["expr"], function)
+                                                for f in declared.values()):
+                declared[function] = {"args": list(args), "expr": text}
+        declared |= {function: {"args": [], "expr": condition}
+                     for condition, function in functions.items()}
+        named = {"functions": declared} if declared else {}
         return {"name": name, "description": description, "env": env_id,
                 "variables": variables, **named,
                 "nodes": [{"id": node, "behavior": act.behavior} if isinstance(act, Use) else

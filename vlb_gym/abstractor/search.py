@@ -27,20 +27,27 @@ The search *learns which statements are useful* (:meth:`Search._learn`): a progr
 the promise on a set of probes no program before it kept it on all of lends its statements to
 every later prefix, at :data:`USEFUL_DISCOUNT` of their cost.
 
+A reading of the promise and a belief that would take comprehension loops inline become
+functions of the behavior (``promised_at(c)``: "would the promise hold if I ended in c?";
+``believed_reachable_goals()``), declared in the file it writes: the expression language allows
+three loops an expression, and seeking where a promise holds filters a list by such a reading.
+
 :func:`witnesses` tries a promise on the env's least behaviors (stop at once, ...) first: a
 promise one of them keeps asks for nothing more than it does.
 """
 
 from __future__ import annotations
 
+import ast
 import heapq
 import itertools
 import re
 import secrets
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
+from vlb_gym.core.expressions import ExpressionError
 from vlb_gym.core.library import BehaviorLibrary, compile_for, compile_spec
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.search_space import SearchSpace
@@ -51,10 +58,11 @@ from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers.robustness import RobustnessWrapper
 
 from .beliefs import literals, numbers, readings
-from .executor import FAILED, OPEN, Executor, Run
-from .programs import Act, Loop, Program, Set, Statement, Stop, acts, reads
+from .executor import FAILED, OPEN, Executor, Run, _frozen
+from .programs import Act, Loop, Program, Set, Statement, Stop, _loops, acts, reads
 from .statements import Statements
-from .terms import BOUND, Bank, Vocabulary, call_name, conforms, contexts, infer_kind
+from .terms import (BOUND, Bank, Context, Vocabulary, call_name, conforms, contexts,
+                    infer_kind)
 
 PROBES = 4
 MAX_PROBES = 8  # probes, counterexamples included
@@ -197,6 +205,7 @@ class Search:
         self._settable = {m.name for m in space.memory if m.settable}
         self._cheap = cheap
         self._statements: Statements | None = None
+        self.functions: dict[str, tuple[tuple[str, ...], str]] = {}  # what programs may call
         self._useful: list[tuple[Statement, int]] = []  # statements (and their costs) of
         # programs that newly kept the promise on a set of probes, and those sets:
         self._covered: list[frozenset[int]] = []
@@ -252,10 +261,14 @@ class Search:
         vocabulary.fragments += named_from_here(vocabulary, space, phrases)
         outcome = set(interface.make_judge().functions())
         binders = tuple(k for k in space.types)[:1] * 2
-        decision = {call_name(n) for n in vocabulary.helpers}
-        for text, bound in readings(self.promise.expr, space, outcome, decision):
+        believed = replace(space, beliefs=self._believed(found))
+        decision = {call_name(n) for n in vocabulary.helpers} | set(self.functions)
+        for text, bound in readings(self.promise.expr, believed, outcome, decision,
+                                    each=vocabulary.each):
             kind = infer_kind(text, found, space.types, binders[0] if bound and binders else None,
                               vocabulary)
+            if kind == "bool" and bound and _loops(ast.parse(text, mode="eval")):
+                text = self._name_condition(text, found)
             if kind is not None:
                 vocabulary.fragments.append((kind, text, 1 if bound else 0))
                 cheap |= {call_name(n) for n in vocabulary.helpers if f"{call_name(n)}(" in text}
@@ -263,6 +276,41 @@ class Search:
         vocabulary.cheap = frozenset(cheap | self._cheap | set(space.common))
         bank = Bank(vocabulary, found).build(binders)
         return Statements(bank, space, limits, list(self.executor.behaviors))
+
+    def _name(self, name: str, args: tuple[str, ...], text: str, condition: bool,
+              found: list[Context]) -> bool:
+        """Make ``text`` a function of the behavior called ``name`` (on the decision contexts
+        too); False where the language refuses ``text``."""
+        try:
+            self.executor.define(name, args, text, condition)
+        except ExpressionError:
+            return False
+        self.functions[name] = (args, text)
+        code = compile(text, name, "eval")
+        for context in found:
+            context.namespace[name] = _function(code, args, context.namespace)
+        return True
+
+    def _believed(self, found: list[Context]) -> dict[str, str]:
+        """The env's beliefs, each that is a comprehension of no argument (``reachable_goals()``
+        believed to be ``[k for k in explored() if label(k) == 'goal']``) a function of the
+        behavior, ``believed_reachable_goals()``: read inline, a promise's use of it takes a
+        comprehension loop of the language's three."""
+        beliefs = dict(self.space.beliefs)
+        for outcome, belief in self.space.beliefs.items():
+            if "{" not in belief and _loops(ast.parse(belief, mode="eval")) \
+                    and self._name(f"believed_{outcome}", (), belief, False, found):
+                beliefs[outcome] = f"believed_{outcome}()"
+        return beliefs
+
+    def _name_condition(self, text: str, found: list[Context]) -> str:
+        """A call of a function of the behavior that holds where the promise's reading
+        ``text`` of the bound cell does (``text`` itself where the language refuses it): the
+        place the promise would hold at is sought by filtering a list by it, and the reading
+        alone may use up the expression language's comprehension loops."""
+        taken = sum(name.startswith("promised_at") for name in self.functions)
+        name = f"promised_at{taken + 1 if taken else ''}"
+        return f"{name}({BOUND[0]})" if self._name(name, (BOUND[0],), text, True, found) else text
 
     def learn(self, seeds: list[int]) -> None:
         """Screen every later program on the episodes of ``seeds`` too, as probes while there
@@ -514,7 +562,8 @@ class Search:
     # -- through the runtime ---------------------------------------------------------------
     def document(self, found: Found, name: str, description: str) -> dict[str, Any]:
         """The behavior file of ``found`` with the promise attached."""
-        document = found.program.document(self.space, name, description, self.env_id)
+        document = found.program.document(self.space, name, description, self.env_id,
+                                          self.functions)
         return {**document, "promise": self.promise.model_dump(exclude_defaults=True)}
 
     def rescreen(self, document: dict[str, Any],
@@ -537,3 +586,22 @@ class Search:
         finally:
             env.close()
         return None
+
+
+def _function(code: Any, args: tuple[str, ...], namespace: dict[str, Any]) -> Any:
+    """The function of ``args`` whose value is ``code``'s in a decision context's
+    ``namespace``, each value computed once (nothing in a context changes)."""
+    values: dict[tuple[Any, ...], Any] = {}
+
+    def value(*given: Any) -> Any:
+        key = tuple(_frozen(v) for v in given)
+        if key not in values:
+            try:
+                values[key] = eval(code, {**namespace, **dict(zip(args, given))})  # noqa: S307
+            except Exception as exc:  # noqa: BLE001 - the reading's own failure, every time
+                values[key] = exc
+        found = values[key]
+        if isinstance(found, Exception):
+            raise found
+        return found
+    return value

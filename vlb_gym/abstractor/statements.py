@@ -184,7 +184,10 @@ class Statements:
         """Statements to try at once after every prefix: acts whose parameter is read from the
         promise (a place the promise would hold at, the first of the places it would, a memory
         variable the promise's readings name: where the behavior began), each also as "if it
-        does something" (go to the start unless there)."""
+        does something" (go to the start unless there); one that picks from the places an
+        ``all`` of the promise speaks of first as a loop over them ("each goal not yet moved
+        onto": on episodes where one is left it acts as the single act, and of programs that
+        act alike the first built is kept)."""
         out: list[Statement] = []
         read = " ".join(text for _, text, _ in self.bank.vocabulary.fragments)
         named = {m.name for m in self.space.memory if re.search(rf"\b{m.name}\b", read)}
@@ -195,7 +198,9 @@ class Statements:
                 if term.reading or term.text in named or (
                         term.text.endswith("[0]") and _reads(self.bank, term)):
                     act = Act(parameter.primitive, term.text)
-                    out += [act, *(If(g, (act,)) for g in [self.acting(act)] if g)]
+                    each = [Loop("True", (act,))] if _list_of(term.text) in \
+                        self.bank.vocabulary.each else []
+                    out += [*each, act, *(If(g, (act,)) for g in [self.acting(act)] if g)]
         return out
 
     def feasible(self, act: Act) -> str | None:

@@ -115,6 +115,7 @@ class Vocabulary:
     constants: list[tuple[str, str]]  # (kind, text)
     cheap: frozenset[str] = frozenset()  # helper names and constant texts worth trying first
     fragments: list[tuple[str, str, int]] = field(default_factory=list)  # (kind, text, depth)
+    each: set[str] = field(default_factory=set)  # lists of places a promise's "all" speaks of
 
     @classmethod
     def of(cls, helpers: Helpers, space: SearchSpace) -> Vocabulary:
@@ -312,8 +313,8 @@ class Bank:
             return
         var, kind = BOUND[0], self._binder_kind[0]
         for xs in self.of(f"list[{kind}]", 0, 1):
-            for _, text, depth in self.vocabulary.fragments:
-                if depth != 1 or xs.text == text:
+            for fragment_kind, text, depth in self.vocabulary.fragments:
+                if depth != 1 or fragment_kind != "bool" or xs.text == text:
                     continue
                 found = f"[{var} for {var} in {_source(xs.text)} if {_wrap(text)}]"
                 self._protected |= {found, f"len({found}) == 0", f"len({found}) > 0"}
