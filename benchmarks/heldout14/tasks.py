@@ -116,14 +116,15 @@ from __future__ import annotations
 from pathlib import Path
 
 from benchmarks.synthesis_tasks import (ALTERNATE as _ALTERNATE, FINAL as _F, FRESH as _FRESH,
-                                        LAST_SENSE as _L, MOVE as _MOVE, START as _S,
-                                        START_I as _S0, START_J as _S1, STAY as _STAY, cell,
-                                        distance, distance_text, exhausted, first_goal_sense,
-                                        first_reaching, free_cell, goals_shown, grams_in_receiver,
-                                        grams_spilled, held_out_task, indices, known_after,
-                                        label_sensed, neighbours, obstacles_beside, on_grid, onto,
-                                        onto_goal_seen, reachable, same_steps, scoops, sensed_cells,
-                                        step_by, steps_of)
+                                        LAST_SENSE as _L, MOVE as _MOVE, NEW_LAST as _NEW_LAST,
+                                        ONTO_GOAL as _ONTO_GOAL_SHORT, START as _S, START_I as _S0,
+                                        START_J as _S1, STAY as _STAY, cell, distance,
+                                        distance_text, exhausted, first_goal_sense, first_reaching,
+                                        free_cell, goals_shown, grams_in_receiver, grams_spilled,
+                                        held_out_task, indices, known_after, label_sensed,
+                                        neighbours, obstacles_beside, on_grid, onto, onto_goal_seen,
+                                        reachable, same_steps, scoops, sensed_cells, step_by,
+                                        steps_of)
 from vlb_gym.envs.grid_explore.types import EMPTY, GOAL, OBSTACLE
 
 REFERENCES = Path(__file__).resolve().parent / "references"
@@ -393,10 +394,6 @@ _RULE_OR_ALL = f"([0, 1] if explored_all() and {_FRESH} else [1] if not explored
 _ONTO_GOAL = f"((steps_after_goal() == 0 and is_goal({_L})) or (steps_after_goal() == 1 and " \
              f"primitives()[-1] == 'navigate' and not is_goal({_L}) and is_goal({_F}) and " \
              f"{_F} in neighbours({_L})))"
-# the same, shorter: the agent ends on a goal, the cell of the goal sense with no step after it
-# if that cell is a goal, else one next to it with the one step after it (a sense moves nothing)
-_ONTO_GOAL_SHORT = f"steps_after_goal() == (0 if is_goal({_L}) else 1) and is_goal({_F}) and " \
-                   f"{_F} in [{_L}] + neighbours({_L})"
 # a sense after every move and nowhere else: the steps up to the last sense
 _TURNS = "primitives()[:2 * len(sensed()) - 1] == ['sense'] + ['navigate', 'sense'] * " \
          "(len(sensed()) - 1) and sensed()[1:] == moves()[:len(sensed()) - 1]"
@@ -426,10 +423,6 @@ _KINDS = "sum([1 if is_obstacle(x) else 100 if is_goal(x) else 10 for x in [sens
 _ALL_KINDS = "T % 10 > 0 and T // 10 % 10 > 0 and T >= 100"
 # the first sense that shows a goal (an index of sensed(), with _TURNS)
 _F_GOAL = "((len(primitives()) - 1 - steps_after_goal()) // 2)"
-# the last sense showed a cell no earlier sense showed (then nothing more was to be found
-# before it), read from the senses where a move may follow it
-_NEW_LAST = f"any(not any(x == s or x in neighbours(s) for s in sensed()[:-1]) for x in " \
-            f"[{_L}] + neighbours({_L}))"
 _ROUNDS = "max(0, (len(sensed()) - 2) // 3)"  # rounds completed (home trips) before the goal sense
 # the values of _RECORDS allowed when nothing more was to be found after the last sense and not
 # before: r records, L = 1 if the last sense set one, r - L < RECORDS

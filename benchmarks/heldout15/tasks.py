@@ -140,9 +140,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from benchmarks.synthesis_tasks import (ALTERNATE as _ALTERNATE, FINAL as _F, FRESH as _FRESH,
-                                        LAST_SENSE as _L, MOVE as _MOVE, START as _S,
-                                        START_I as _S0, START_J as _S1, STAY as _STAY, cell,
-                                        distance, distance_text, exhausted, first_goal_sense,
+                                        LAST_SENSE as _L, MOVE as _MOVE, NEW_LAST as _NEW_LAST,
+                                        ONLY_MOVES as _ONLY_MOVES, ONTO_GOAL as _ONTO_GOAL,
+                                        START as _S, START_I as _S0, START_J as _S1, STAY as _STAY,
+                                        cell, distance, distance_text, exhausted, first_goal_sense,
                                         first_reaching, free_cell, goals_shown, grams_in_receiver,
                                         grams_spilled, held_out_task, indices, known_after,
                                         label_sensed, obstacles_beside, onto, onto_goal_seen,
@@ -428,18 +429,6 @@ _task = held_out_task(REFERENCES)
 
 # The promises' language allows at most 3 comprehension loops in one expression (all of its
 # loops counted together) and 400 syntax nodes: these are written to stay within that.
-# after the sense that first shows a goal: nothing on a goal, else one move onto one it showed
-# (the agent ends on a goal, the cell of the goal sense with no step after it if that cell is a
-# goal, else one next to it with the one step after it: a sense moves nothing)
-_ONTO_GOAL = f"steps_after_goal() == (0 if is_goal({_L}) else 1) and is_goal({_F}) and " \
-             f"{_F} in [{_L}] + neighbours({_L})"
-# after the last sense only moves, so that the last sense is the one that first showed a goal
-_ONLY_MOVES = "primitives()[len(primitives()) - steps_after_goal():] == ['navigate'] * " \
-              "steps_after_goal()"
-# the last sense showed a cell no earlier sense showed (then nothing more was to be found
-# before it), read from the senses where a move may follow it
-_NEW_LAST = f"any(not any(x == s or x in neighbours(s) for s in sensed()[:-1]) for x in " \
-            f"[{_L}] + neighbours({_L}))"
 _K10, _K100 = indices(10), indices(100)
 
 

@@ -135,11 +135,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from benchmarks.synthesis_tasks import (FINAL as _F, FRESH as _FRESH, LAST_SENSE as _L,
-                                        START as _S, START_I as _S0, START_J as _S1, cell,
-                                        distance, distance_text, exhausted, first_goal_sense,
-                                        first_reaching, free_cell, goals_shown, grams_in_receiver,
-                                        grams_spilled, held_out_task, indices, known_after,
-                                        label_sensed, obstacles_beside, onto,
+                                        NEW_LAST as _NEW_LAST, ONLY_MOVES as _ONLY_MOVES,
+                                        ONTO_GOAL as _ONTO_GOAL, START as _S, START_I as _S0,
+                                        START_J as _S1, cell, distance, distance_text, exhausted,
+                                        first_goal_sense, first_reaching, free_cell, goals_shown,
+                                        grams_in_receiver, grams_spilled, held_out_task, indices,
+                                        known_after, label_sensed, obstacles_beside, onto,
                                         onto_goal_seen, reachable, same_steps, scoops, step_by,
                                         steps_of)
 from vlb_gym.envs.grid_explore.types import GOAL, OBSTACLE
@@ -401,16 +402,6 @@ def _shows_obstacle(c: str) -> str:
 # is then the one before it, the sense that first showed a goal)
 _STAY_OR_ONE = f"steps_after_goal() == (0 if {_F} == {_L} else 1) and primitives()[-1:] == " \
                f"(['sense'] if {_F} == {_L} else ['navigate'])"
-# after the sense that first shows a goal: nothing on a goal, else one move onto one it showed
-_ONTO_GOAL = f"steps_after_goal() == (0 if is_goal({_L}) else 1) and is_goal({_F}) and " \
-             f"{_F} in [{_L}] + neighbours({_L})"
-# after the last sense only moves, so that the last sense is the one that first showed a goal
-_ONLY_MOVES = "primitives()[len(primitives()) - steps_after_goal():] == ['navigate'] * " \
-              "steps_after_goal()"
-# the last sense showed a cell no earlier sense showed (then nothing more was to be found
-# before it), read from the senses where a move may follow it
-_NEW_LAST = f"any(not any(x == s or x in neighbours(s) for s in sensed()[:-1]) for x in " \
-            f"[{_L}] + neighbours({_L}))"
 _FREE_KNOWN = f"{_F} in known_cells() and not is_obstacle({_F})"
 # onward_from_goal: P the cell of the goal sense (as many senses after it as pairs of steps), G
 # the goal walked from, A the way along the row (1 right, -1 left, 0 none); the walk's cells are

@@ -193,6 +193,18 @@ FRESH = "len(known_before_last()) < len(known_cells())"  # the last step labelle
 # the certificates say), up to the last sense
 ALTERNATE = "primitives()[:2 * len(sensed()) - 1] == ['sense'] + ['navigate', 'sense'] * " \
             "(len(sensed()) - 1)"
+# after the sense that first shows a goal: nothing on a goal, else one move onto one it showed
+# (the agent ends on a goal, the cell of the goal sense with no step after it if that cell is a
+# goal, else one next to it with the one step after it: a sense moves nothing)
+ONTO_GOAL = f"steps_after_goal() == (0 if is_goal({LAST_SENSE}) else 1) and is_goal({FINAL}) " \
+            f"and {FINAL} in [{LAST_SENSE}] + neighbours({LAST_SENSE})"
+# after the last sense only moves, so that the last sense is the one that first showed a goal
+ONLY_MOVES = "primitives()[len(primitives()) - steps_after_goal():] == ['navigate'] * " \
+             "steps_after_goal()"
+# the last sense showed a cell no earlier sense showed (then nothing more was to be found
+# before it), read from the senses where a move may follow it
+NEW_LAST = f"any(not any(x == s or x in neighbours(s) for s in sensed()[:-1]) for x in " \
+           f"[{LAST_SENSE}] + neighbours({LAST_SENSE}))"
 
 
 def held_out_task(references: Path) -> Callable[..., Task]:
