@@ -149,6 +149,26 @@ def test_a_place_read_from_a_promise_of_many_loops_is_sought_through_a_named_con
         search.close()
 
 
+def test_where_the_promise_says_the_agent_sensed_from_is_remembered_not_guessed_from_the_path():
+    """A promise's ``sensed()`` is read as the places the behavior remembers sensing from
+    (``sensed_from``), not the cells it stood in: after a move that senses nothing the two
+    differ. heldout15's middle_look_return (onto the goal a sense showed, then back to where the
+    middle sense was taken) reads the middle sense at once, the search finds the behavior, and
+    the runtime agrees."""
+    from benchmarks.synthesis_eval import load_tasks
+    task = next(t for t in load_tasks(ROOT / "benchmarks" / "heldout15" / "tasks.py")
+                if t.name == "middle_look_return")
+    search = Search(GRID_ID, Promise(expr=task.promise), task.description, screen_seed=777)
+    try:
+        back = Act("navigate", "sensed_from[(len(sensed_from) - 1) // 2]")
+        assert back in search.statements().completions()
+        found = search.find(600, max_programs=80_000)
+        assert found is not None and found.program.statements[-1] == back
+        assert search.rescreen(search.document(found, "middle_look_return", "")) is None
+    finally:
+        search.close()
+
+
 def test_a_reading_of_the_bound_cell_is_named_only_where_it_loops_and_the_language_takes_it():
     """Readings without comprehension loops stay inline; none but bool readings of the bound
     cell filter a list (an int or a cell is not a condition)."""
@@ -489,6 +509,7 @@ def test_moving_until_the_promise_says_stop_is_one_step_dearer_than_until_blocke
 GIVE_UP_AFTER_THREE = Promise(expr=(
     "all(primitives() == ['sense'] + ['navigate', 'sense'] * k + ['navigate'] * r and "
     "sensed() == [start_cell()] + moves()[:k] and k <= 3 and final_cell() == start_cell() and "
+    "start_cell() not in moves()[:k] and "
     "(steps_after_goal() == r or (steps_after_goal() == -1 and k == 3)) "
     "for r in [1 if primitives()[-1] == 'navigate' else 0] for k in [len(moves()) - r])"))
 

@@ -1,7 +1,7 @@
 """The search's executor runs a program exactly as the behavior file it writes runs in the
 package's runtime: the same steps, and success or failure on the same episodes (Hypothesis over
 programs of the statement grammar, settings of the remembered cell ``mark`` and ends where a
-guard holds among them)."""
+guard holds among them); the places it remembers sensing from are those it sensed from."""
 
 from __future__ import annotations
 
@@ -24,11 +24,12 @@ TARGETS = ["current_cell()", "home", "frontier_cells()[0]", "explored()[-1]", "g
            "path[-2]", "[c for c in adjacent(home) if c not in path][0]",
            "[c for c in explored() if c not in path][-1]",  # (these two read what they update)
            "mark", "beside(mark, 'up')",
-           "[c for c in explored() if promised_at(c)][0]", "believed_goals()[-1]"]
+           "[c for c in explored() if promised_at(c)][0]", "believed_goals()[-1]",
+           "sensed_from[-2]", "sensed_from[(len(sensed_from) - 1) // 2]"]
 MARKS = ["goal_cell()", "current_cell()", "frontier_cells()[0]", "path[-2]",
          "beside(current_cell(), 'left')", "beside(mark, 'right')"]
 GUARDS = ["goal_found()", "not goal_found()", "len(explored()) < 12", "True",
-          "is_free(beside(current_cell(), 'up'))", "len(path) < 4",
+          "is_free(beside(current_cell(), 'up'))", "len(path) < 4", "len(sensed_from) < 3",
           "len([c for c in explored() if label(c) == 'goal']) == 0", "home != current_cell()",
           "is_free(beside(current_cell(), 'right'))", "mark != current_cell()", "is_free(mark)",
           "len([c for c in frontier_cells() if c != mark]) > 0", "len(believed_goals()) > 0",
@@ -93,5 +94,6 @@ def test_the_executor_and_the_runtime_agree(program, seed):
     assert held == success, (program.words(), run.reason)
     if success:
         assert [(p, tuple(c)) for p, c in run.trace] == steps
+        assert run.variables["sensed_from"] == [c for p, c in run.trace if p == "sense"]
     else:  # a loop that repeats itself is failed by the executor before the step bound
         assert list(run.trace) == steps[:len(run.trace)]

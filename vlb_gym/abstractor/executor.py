@@ -28,10 +28,11 @@ from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import (Act, If, Set, Statement, Stop, Use, _list_of, _substitute,
-                       chosen_first, memory_updates)
+from .programs import (Act, If, Loop, Set, Statement, Stop, Use, _list_of, _mentions,
+                       _substitute, chosen_first, memory_updates)
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
+MAX_REPEATS = 4  # iterations in a row that repeat their steps, the guard's memory growing
 
 
 @dataclass
@@ -94,6 +95,8 @@ class Executor:
         self._signatures = {**BUILTIN_SIGNATURES, **helper_signatures(functions)}
         self._expressions: dict[str, Expression] = {}
         self._functions: dict[str, Expression] = {}  # the behavior's own, by name
+        self._texts: dict[str, str] = {}  # their expressions' texts
+        self._reads: dict[Loop, tuple[str, ...]] = {}  # the memory each loop reads
         self._judging = Judging(interface)
         judge_names = {**{n: None for n in BUILTINS},
                        **{n: arity(f) for n, f in self._judging.helpers.functions().items()}}
@@ -119,6 +122,8 @@ class Executor:
         ``condition`` is a bool); ExpressionError if the language refuses ``text``."""
         self._functions[name] = Expression(text, {**self._names, **{a: -1 for a in args}}, name,
                                            args=args)
+        self._texts[name] = text
+        self._reads.clear()
         self._names[name] = len(args)
         self._signatures[name] = Signature(len(args), len(args),
                                            **({"returns": BOOL} if condition else {}))
@@ -222,7 +227,7 @@ class Executor:
             if self._enters(statement.body[0], [statement.guard], namespace):
                 self._body(run, statement.body, namespace)
             return
-        count = 0
+        count = repeats = 0
         while run.status == OPEN:
             conditions = [statement.guard]
             if statement.limit is not None:
@@ -231,10 +236,14 @@ class Executor:
                                                          namespace):
                 return
             count += 1
-            before = (len(run.history), _observed(self.interface.observation()))
+            before = (len(run.history), _observed(self.interface.observation()),
+                      self._memory_read(run, statement))
             namespace = self._body(run, statement.body, namespace)
-            if statement.limit is None and self._repeated(run, before, len(statement.body)):
-                raise _Failed("the loop repeats itself and never ends")
+            if statement.limit is None:
+                repeated = self._repeated(run, before, statement)
+                repeats = repeats + 1 if repeated is not None else 0
+                if repeated or repeats > MAX_REPEATS:
+                    raise _Failed("the loop repeats itself and never ends")
 
     def _use(self, run: Run, name: str) -> None:
         """Run the library behavior ``name`` to its end, its promise judged as the runtime
@@ -267,15 +276,38 @@ class Executor:
             if problem is not None:
                 raise _Failed(problem)
 
-    def _repeated(self, run: Run, before: tuple[int, Any], acts: int) -> bool:
+    def _repeated(self, run: Run, before: tuple[int, Any, Any], loop: Loop) -> bool | None:
         """Whether a loop's iteration ran the previous iteration's steps again and left what
-        the agent observes as it was (so it would go on forever)."""
-        steps, seen = before
+        the agent observes, and the memory its guard reads, as they were (so it would go on
+        forever); None where it did not repeat the steps or changed what the agent observes.
+        (Where the guard reads a memory that grew, as "while fewer than three senses", the loop
+        may end: False, and after :data:`MAX_REPEATS` of them in a row it is taken to repeat
+        itself, the runtime's step bound being far.)"""
+        steps, seen, memory = before
+        acts = len(loop.body)
         if steps < acts or run.status != OPEN:
-            return False
+            return None
         trace = run.trace
-        return trace[-acts:] == trace[steps - acts:steps] and \
-            _observed(self.interface.observation()) == seen
+        if trace[-acts:] != trace[steps - acts:steps] or \
+                _observed(self.interface.observation()) != seen:
+            return None
+        return self._memory_read(run, loop) == memory
+
+    def _memory_read(self, run: Run, loop: Loop) -> tuple[Any, ...]:
+        """The values of the memory variables ``loop``'s guard reads, itself or through the
+        behavior's functions it calls."""
+        names = self._reads.get(loop)
+        if names is None:
+            texts, called, read = [loop.guard], set(), set()
+            while texts:
+                text = texts.pop()
+                for name, function in self._texts.items():
+                    if name not in called and _mentions(text, name):
+                        called.add(name)
+                        texts.append(function)
+                read |= {m.name for m in self.space.memory if _mentions(text, m.name)}
+            names = self._reads[loop] = tuple(sorted(read))
+        return tuple(_frozen(run.variables.get(name)) for name in names)
 
     def _enters(self, act: Act, conditions: list[str], namespace: dict[str, Any]) -> bool:
         picked = _list_of(act.param)

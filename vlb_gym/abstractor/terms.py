@@ -116,6 +116,7 @@ class Vocabulary:
     cheap: frozenset[str] = frozenset()  # helper names and constant texts worth trying first
     fragments: list[tuple[str, str, int]] = field(default_factory=list)  # (kind, text, depth)
     each: set[str] = field(default_factory=set)  # lists of places a promise's "all" speaks of
+    visits: frozenset[str] = frozenset()  # memory lists a chosen parameter is added to
 
     @classmethod
     def of(cls, helpers: Helpers, space: SearchSpace) -> Vocabulary:
@@ -138,8 +139,11 @@ class Vocabulary:
                     if kind.startswith("str:"):
                         constants += [(kind, repr(v)) for v in kind[4:].split("|")]
         constants += [("int", str(k)) for k in range(4)]
+        chosen = {p.primitive for p in space.parameters if p.kind is not None}
+        visits = frozenset(m.name for m in space.memory
+                           if any(primitive in chosen for primitive, _ in m.updates))
         return cls(typed, {m.name: m.kind for m in space.memory},
-                   list(dict.fromkeys(constants)))
+                   list(dict.fromkeys(constants)), visits=visits)
 
 
 def _parameters(fn: Callable[..., Any]) -> tuple[list[str], list[str]]:
@@ -324,14 +328,15 @@ class Bank:
 
     def _unvisited(self) -> Iterator[Term]:
         """What visiting each of some places once needs, at a discount: each cheapest list
-        less what a memory list holds (``[c for c in L if c not in M]``, M the cells moved
-        to: "the goals not yet visited"), kept whatever it means on the contexts (their
-        short rollouts seldom tell it from ``L``)."""
+        less what a memory list holds that a chosen parameter is added to (``[c for c in L
+        if c not in M]``, M the cells moved to: "the goals not yet visited"; not the cells
+        sensed from, where the parameter is fixed), kept whatever it means on the contexts
+        (their short rollouts seldom tell it from ``L``)."""
         if not self._binder_kind:
             return
         var, kind = BOUND[0], self._binder_kind[0]
         for memory, memory_kind in self.vocabulary.variables.items():
-            if memory_kind != f"list[{kind}]":
+            if memory not in self.vocabulary.visits or memory_kind != f"list[{kind}]":
                 continue
             for xs in self.of(memory_kind, 0, 1):
                 if memory in xs.text:

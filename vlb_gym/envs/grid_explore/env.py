@@ -130,8 +130,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
 
     def search_space(self) -> SearchSpace:
         """Cells are the one type; ``sense`` takes the agent's cell, ``navigate`` any cell;
-        behaviors remember where they began (``home``), where they have stood (``path``) and a
-        cell they chose to (``mark``)."""
+        behaviors remember where they began (``home``), where they have stood (``path``),
+        where they sensed from (``sensed_from``: what a promise's ``sensed()`` reads, exact
+        after moves that sense nothing) and a cell they chose to (``mark``)."""
         return SearchSpace(
             types={"cell": Cell},
             parameters=(Parameter("sense", fixed=("current_cell()",)),
@@ -143,6 +144,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                            (("navigate", "path + [PARAM]"),),
                            "the cells the agent has stood in: the start, then each cell it "
                            "moved to"),
+                    Memory("sensed_from", "list[cell]", "[]",
+                           (("sense", "sensed_from + [PARAM]"),),
+                           "the cells the agent sensed from, in order"),
                     Memory("mark", "cell", "current_cell()",
                            description="a cell the behavior chose to remember (at first, the "
                            "start)", settable=True)),
@@ -152,7 +156,7 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                        Witness("go to the cell where it stands (its start) and stop",
                                (("navigate", "current_cell()"),))),
             beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
-                     "sensed": "path",  # where it stood: where it sensed, as behaviors do
+                     "sensed": "sensed_from",
                      "is_goal": "label({0}) == 'goal'", "is_obstacle": "label({0}) == 'obstacle'",
                      "goal_found": "goal_found()", "neighbours": "adjacent({0})",
                      "known_cells": "explored()",
