@@ -139,11 +139,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (ALTERNATE as _ALTERNATE, FINAL as _F, FRESH as _FRESH,
+from benchmarks.synthesis_tasks import (goal_sense as _goal_sense,
+                                        ALTERNATE as _ALTERNATE, FINAL as _F, FRESH as _FRESH,
                                         LAST_SENSE as _L, MOVE as _MOVE, NEW_LAST as _NEW_LAST,
                                         ONLY_MOVES as _ONLY_MOVES, ONTO_GOAL as _ONTO_GOAL,
                                         START as _S, START_I as _S0, START_J as _S1, STAY as _STAY,
-                                        cell, distance, distance_text, exhausted, first_goal_sense,
+                                        cell, distance, distance_text, exhausted,
                                         first_reaching, free_cell, goals_shown, grams_in_receiver,
                                         grams_spilled, held_out_task, indices, known_after,
                                         label_sensed, obstacles_beside, onto, onto_goal_seen,
@@ -181,12 +182,6 @@ def _alternating(steps, index) -> str | None:
             return f"step {t + 1} was a {kind}: a sense first and after every move, and no " \
                    "other sense"
     return None
-
-
-def _goal_sense(state, result):
-    """The steps of the episode and the index of the sense that first showed a goal (None if
-    none did)."""
-    return steps_of(result), first_goal_sense(state, result)
 
 
 def _edge_gap(state, c, step) -> int:

@@ -149,11 +149,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from benchmarks.synthesis_tasks import (FINAL as _F, FRESH as _FRESH, LAST_SENSE as _L,
+from benchmarks.synthesis_tasks import (goal_sense as _goal_sense, any_plan as _any_plan,
+                                        FINAL as _F, FRESH as _FRESH, LAST_SENSE as _L,
                                         NEW_LAST as _NEW_LAST, ONLY_MOVES as _ONLY_MOVES,
                                         ONTO_GOAL as _ONTO_GOAL, START as _S, START_I as _S0,
                                         START_J as _S1, cell, distance, distance_text, exhausted,
-                                        first_goal_sense, first_reaching, free_cell,
+                                        first_reaching, free_cell,
                                         free_neighbours, goals_shown, grams_in_receiver,
                                         grams_spilled, held_out_task, indices, label_sensed,
                                         obstacles_beside, onto, onto_goal_seen, reachable,
@@ -181,17 +182,6 @@ def _walk(state, here, step) -> list:
         here = step_by(here, step)
         plan += [("navigate", here), ("sense", here)]
     return plan
-
-
-def _goal_sense(state, result):
-    """The steps of the episode and the index of the sense that first showed a goal (None if
-    none did)."""
-    return steps_of(result), first_goal_sense(state, result)
-
-
-def _any_plan(rest, plans) -> str | None:
-    """None if ``rest`` is one of ``plans``, else what ran instead of the first."""
-    return None if rest in plans else same_steps(rest, plans[0])
 
 
 def _quarter(c) -> int:

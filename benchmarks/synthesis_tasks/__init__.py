@@ -298,6 +298,17 @@ def first_goal_sense(state: GridState, result: EpisodeResult) -> int | None:
     return None
 
 
+def goal_sense(state: GridState, result: EpisodeResult) -> tuple[list, int | None]:
+    """The steps of the episode and the index of the sense that first showed a goal (None if
+    none did)."""
+    return steps_of(result), first_goal_sense(state, result)
+
+
+def any_plan(rest: list, plans: list[list]) -> str | None:
+    """None if ``rest`` is one of ``plans``, else what ran instead of the first."""
+    return None if rest in plans else same_steps(rest, plans[0])
+
+
 def first_reaching(state: GridState, result: EpisodeResult,
                    reached: Callable[[np.ndarray], bool]) -> int | None:
     """The index of the first step after which ``reached(known cells)`` holds."""

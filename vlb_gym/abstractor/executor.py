@@ -28,8 +28,8 @@ from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import (Act, If, Loop, Set, Statement, Stop, Use, _list_of, _mentions,
-                       _substitute, chosen_first, memory_updates)
+from .programs import (Act, If, Loop, Set, Statement, Stop, Use, _list_of, _substitute,
+                       chosen_first, memory_updates)
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
 MAX_REPEATS = 4  # iterations in a row that repeat their steps, the guard's memory growing
@@ -95,7 +95,6 @@ class Executor:
         self._signatures = {**BUILTIN_SIGNATURES, **helper_signatures(functions)}
         self._expressions: dict[str, Expression] = {}
         self._functions: dict[str, Expression] = {}  # the behavior's own, by name
-        self._texts: dict[str, str] = {}  # their expressions' texts
         self._reads: dict[Loop, tuple[str, ...]] = {}  # the memory each loop reads
         self._judging = Judging(interface)
         judge_names = {**{n: None for n in BUILTINS},
@@ -122,7 +121,6 @@ class Executor:
         ``condition`` is a bool); ExpressionError if the language refuses ``text``."""
         self._functions[name] = Expression(text, {**self._names, **{a: -1 for a in args}}, name,
                                            args=args)
-        self._texts[name] = text
         self._reads.clear()
         self._names[name] = len(args)
         self._signatures[name] = Signature(len(args), len(args),
@@ -298,14 +296,14 @@ class Executor:
         behavior's functions it calls."""
         names = self._reads.get(loop)
         if names is None:
-            texts, called, read = [loop.guard], set(), set()
-            while texts:
-                text = texts.pop()
-                for name, function in self._texts.items():
-                    if name not in called and _mentions(text, name):
-                        called.add(name)
-                        texts.append(function)
-                read |= {m.name for m in self.space.memory if _mentions(text, m.name)}
+            memory = {m.name for m in self.space.memory}
+            pending, called, read = [self.expression(loop.guard)], set(), set()
+            while pending:
+                used = pending.pop().names
+                read |= used & memory
+                for name in (used & self._functions.keys()) - called:
+                    called.add(name)
+                    pending.append(self._functions[name])
             names = self._reads[loop] = tuple(sorted(read))
         return tuple(_frozen(run.variables.get(name)) for name in names)
 
