@@ -18,7 +18,8 @@ from hypothesis import strategies as st
 
 from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
-from vlb_gym.abstractor.beliefs import MAX_READINGS, numbers, readings, witnesses
+from vlb_gym.abstractor.beliefs import (MAX_CASES, MAX_READINGS, _cases, _Reader, numbers,
+                                       readings, witnesses)
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
@@ -710,6 +711,28 @@ def test_names_a_promise_binds_to_one_value_are_read_through(interface):
     assert read["label((home[0] - 1, home[1])) == 'obstacle'"] is False
     assert read["(home[0] - 1, home[1])"] is False
     assert not any(" in [" in text for text in read)  # no binding of one value is left
+
+
+def test_a_conditional_the_agent_cannot_read_is_read_as_each_case_it_can(interface):
+    """``X if C else Y`` where no belief reads ``C`` (the steps decide it) gives a reading of
+    each branch in its context; where a branch cannot be read, the other one is read."""
+    space = interface.search_space()
+    outcome = set(interface.make_judge().functions())
+    decision = set(interface.make_helpers().functions())
+    read = dict(readings("(is_goal(final_cell()) and final_cell() != start_cell()) if "
+                         "steps_after_goal() == 1 else final_cell() == start_cell()",
+                         space, outcome, decision))
+    assert read["label(c) == 'goal' and c != home"] is True
+    assert read["c == home"] is True
+    assert not any("steps_after_goal" in text for text in read)
+    read = dict(readings("all(final_cell() == (g[0], g[1] + 1) for g in [sensed()[-1] if "
+                         "is_goal(sensed()[-1]) else moves_after_goal()[0]])",
+                         space, outcome, decision))
+    assert read["c == (sensed_from[-1][0], sensed_from[-1][1] + 1)"] is True
+    assert not any("moves_after_goal" in text for text in read)
+    assert len(_cases(_Reader(space.beliefs, outcome), ast.parse(" or ".join(
+        ["(is_goal(final_cell()) if steps_after_goal() == 1 else is_obstacle(final_cell()))"]
+        * 8), mode="eval").body)) == MAX_CASES  # bounded however many conditionals
 
 
 @pytest.mark.parametrize("expr, places", [

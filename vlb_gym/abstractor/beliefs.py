@@ -29,6 +29,7 @@ from vlb_gym.core.search_space import SearchSpace
 
 TARGET = "TARGET"
 MAX_READINGS = 60
+MAX_CASES = 5  # a promise and the readable cases of its conditionals
 _NUMBER_WORDS = {"once": 1, "one": 1, "twice": 2, "two": 2, "three": 3, "thrice": 3,
                  "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9, "ten": 10}
 
@@ -349,7 +350,8 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
         picked = reader.read(extreme)
         if picked is not None and _free_names(picked) <= known:
             out.setdefault(ast.unparse(picked), False)
-    texts = [ast.unparse(part) for part in _readable(reader, tree)]
+    texts = list(dict.fromkeys(ast.unparse(part) for case in _cases(reader, tree)
+                               for part in _readable(reader, case)))
     for target, bound in ((space.here[1], False), (variable, True)):
         for node in (node for text in texts for node in ast.walk(
                 ast.parse(text.replace(TARGET, target), mode="eval").body)):
@@ -390,6 +392,41 @@ def _negation(test: ast.expr) -> ast.expr:
     if isinstance(test, ast.Compare) and len(test.ops) == 1 and type(test.ops[0]) in flipped:
         return ast.Compare(test.left, [flipped[type(test.ops[0])]()], test.comparators)
     return ast.UnaryOp(ast.Not(), test)
+
+
+def _cases(reader: _Reader, tree: ast.expr) -> list[ast.expr]:
+    """``tree``, then the trees where an ``X if C else Y`` that cannot be read whole is replaced
+    by a branch that can be read: both where only ``C`` cannot (the steps decide it: each is a
+    way to keep the promise), the other where one of ``X``, ``Y`` cannot (the case the agent
+    can know of); outermost first, at most :data:`MAX_CASES` trees."""
+    cases, pending = [tree], [tree]
+    while pending and len(cases) < MAX_CASES:
+        node = pending.pop(0)
+        nodes = list(ast.walk(node))
+        split = next((k for k, n in enumerate(nodes) if isinstance(n, ast.IfExp)
+                      and reader.read(n) is None
+                      and any(reader.read(b) is not None for b in (n.body, n.orelse))), None)
+        if split is None:
+            continue
+        for branch in ("body", "orelse"):
+            if reader.read(getattr(nodes[split], branch)) is None or len(cases) >= MAX_CASES:
+                continue
+            holder = ast.Expression(body=copy.deepcopy(node))
+            conditional = list(ast.walk(holder.body))[split]
+            _replace(holder, conditional, getattr(conditional, branch))
+            cases.append(holder.body)
+            pending.append(holder.body)
+    return cases
+
+
+def _replace(root: ast.AST, old: ast.AST, new: ast.AST) -> None:
+    """The node ``old`` under ``root`` replaced by ``new``."""
+    for parent in ast.walk(root):
+        for field, child in ast.iter_fields(parent):
+            if child is old:
+                setattr(parent, field, new)
+            elif isinstance(child, list) and any(item is old for item in child):
+                child[[item is old for item in child].index(True)] = new
 
 
 def _readable(reader: _Reader, node: ast.AST) -> list[ast.AST]:
