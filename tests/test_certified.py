@@ -969,6 +969,22 @@ def test_least_behaviors_witness_weak_promises(expr, witnessed):
         search.close()
 
 
+@pytest.mark.parametrize("expr, words", [
+    ("len(moves()) == 6 and all(c == start_cell() for c in moves())",
+     "go to the cell where it stands (its start) 6 times and stop"),
+    ("len(sensed()) == 3", "sense 3 times where it stands and stop"),
+    ("len(sensed()) == 3 and sensed()[0] != sensed()[-1]", None)])
+def test_staying_put_over_and_over_witnesses_a_promise_of_counts_alone(expr, words):
+    """A promise that only counts steps is kept by doing the least step again and again where
+    the agent stands: the fewest repeats that keep it are shown; a promise that asks for
+    different places is not kept so."""
+    search = Search(GRID_ID, Promise(expr=expr), screen_seed=5)
+    try:
+        assert search.witnesses() == ([words] if words else [])
+    finally:
+        search.close()
+
+
 def test_an_expert_promise_is_certified_through_the_engine_on_fresh_seeds():
     shown = []
     got = certify_promise(GRID_ID, REQUEST, HOME, lambda p, w: shown.append(w) or True,

@@ -326,11 +326,13 @@ class Search:
     # -- least behaviors -----------------------------------------------------------------------
     def witnesses(self) -> list[str]:
         """The words of the env's least behaviors that keep the promise on every screening
-        episode."""
+        episode (of one done over and over, the fewest times that keep it)."""
         keeping = []
         for witness in self.space.witnesses:
-            if all(self._keeps(seed, witness.steps) for seed in self.seeds):
-                keeping.append(witness.words)
+            for words, steps in witness.repeated():
+                if all(self._keeps(seed, steps) for seed in self.seeds):
+                    keeping.append(words)
+                    break
         return keeping
 
     def keeps(self, program: Program) -> bool:

@@ -75,10 +75,19 @@ class Memory:
 @dataclass(frozen=True)
 class Witness:
     """One of an env's least behaviors: ``words`` for the user, and its steps as (primitive,
-    parameter expression) pairs; no steps is the behavior that stops at once."""
+    parameter expression) pairs; no steps is the behavior that stops at once. Where ``most`` > 1
+    the steps done again, up to ``most`` times in all, are least behaviors too (staying put,
+    over and over), ``again`` their words with ``{times}`` for the count."""
 
     words: str
     steps: tuple[tuple[str, str], ...] = ()
+    most: int = 1
+    again: str = ""
+
+    def repeated(self) -> list[tuple[str, tuple[tuple[str, str], ...]]]:
+        """(words, steps) of this behavior done once, then again, up to ``most`` times."""
+        return [(self.words if times == 1 else self.again.format(times=times),
+                 self.steps * times) for times in range(1, max(self.most, 1) + 1)]
 
 
 @dataclass(frozen=True)

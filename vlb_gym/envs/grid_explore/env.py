@@ -24,6 +24,8 @@ from .viewer import render_rgb
 
 MAX_SIZE = 64  # bounds memory and planning time: size**2 cells, labels and actions
 MAX_ACTION_NOISE = 100.0  # cells/s: 5 cells per 20 Hz step, far past any useful disturbance
+STAY_PUT = 12  # a least behavior that stays put is tried done up to this many times (the counts
+#                a request names: five round trips are ten moves)
 
 
 class GridExploreEnv(PrimitiveEnv[GridState]):
@@ -152,9 +154,12 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                            "start)", settable=True)),
             witnesses=(Witness("stop at once, doing nothing"),
                        Witness("sense once where it stands and stop",
-                               (("sense", "current_cell()"),)),
+                               (("sense", "current_cell()"),), STAY_PUT,
+                               "sense {times} times where it stands and stop"),
                        Witness("go to the cell where it stands (its start) and stop",
-                               (("navigate", "current_cell()"),))),
+                               (("navigate", "current_cell()"),), STAY_PUT,
+                               "go to the cell where it stands (its start) {times} times and "
+                               "stop")),
             beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
                      "sensed": "sensed_from",
                      "is_goal": "label({0}) == 'goal'", "is_obstacle": "label({0}) == 'obstacle'",
