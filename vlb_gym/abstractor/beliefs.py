@@ -399,23 +399,20 @@ def _cases(reader: _Reader, tree: ast.expr) -> list[ast.expr]:
     by a branch that can be read: both where only ``C`` cannot (the steps decide it: each is a
     way to keep the promise), the other where one of ``X``, ``Y`` cannot (the case the agent
     can know of); outermost first, at most :data:`MAX_CASES` trees."""
-    cases, pending = [tree], [tree]
-    while pending and len(cases) < MAX_CASES:
-        node = pending.pop(0)
+    cases = [tree]
+    for node in cases:  # (each case appended is split in its turn)
         nodes = list(ast.walk(node))
-        split = next((k for k, n in enumerate(nodes) if isinstance(n, ast.IfExp)
+        split = next(((k, branches) for k, n in enumerate(nodes) if isinstance(n, ast.IfExp)
                       and reader.read(n) is None
-                      and any(reader.read(b) is not None for b in (n.body, n.orelse))), None)
-        if split is None:
-            continue
-        for branch in ("body", "orelse"):
-            if reader.read(getattr(nodes[split], branch)) is None or len(cases) >= MAX_CASES:
-                continue
+                      and (branches := [b for b in ("body", "orelse")
+                                        if reader.read(getattr(n, b)) is not None])), None)
+        for branch in split[1] if split else ():
+            if len(cases) >= MAX_CASES:
+                return cases
             holder = ast.Expression(body=copy.deepcopy(node))
-            conditional = list(ast.walk(holder.body))[split]
+            conditional = list(ast.walk(holder.body))[split[0]]
             _replace(holder, conditional, getattr(conditional, branch))
             cases.append(holder.body)
-            pending.append(holder.body)
     return cases
 
 
