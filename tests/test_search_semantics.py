@@ -75,6 +75,9 @@ def runtime_steps(document, seed):
 @example(Program((SENSE, Loop("not goal_found()", (Act("navigate", "frontier_cells()[0]"), SENSE)),
                   Act("navigate", "[c for c in explored() if promised_at(c)][0]"))), 5)
 # (a function of the behavior calling another)
+@example(Program((SENSE, Loop("not goal_found()", (Act("navigate", "frontier_cells()[0]"), SENSE)),
+                  Act("navigate", "[c for c in believed_goals() if c not in path][0]"))), 5)
+# (a parameter chosen before two memories it is added to, path and after_goal, are updated)
 def test_the_executor_and_the_runtime_agree(program, seed):
     search = Search(GRID_ID, ANYTHING, screen_seed=1)
     search.executor.max_steps = 500  # the env's own bound, as the runtime has it

@@ -28,8 +28,8 @@ from vlb_gym.core.typecheck import check as typecheck
 from vlb_gym.core.spec import Promise
 
 from .closeness import Closeness
-from .programs import (Act, If, Loop, Set, Statement, Stop, Use, _list_of, _substitute,
-                       chosen_first, memory_updates)
+from .programs import (CHOSEN, Act, If, Loop, Set, Statement, Stop, Use, _list_of,
+                       _substitute, chosen_first, memory_updates)
 
 OPEN, FINISHED, FAILED = "open", "finished", "failed"
 MAX_REPEATS = 4  # iterations in a row that repeat their steps, the guard's memory growing
@@ -91,7 +91,8 @@ class Executor:
         functions = self.helpers.functions()
         self._static = self.budget.charging(functions)
         self._names = {**{n: None for n in BUILTINS}, **{n: arity(f) for n, f in functions.items()},
-                       **{m.name: -1 for m in space.memory}, **{f"n{k}": -1 for k in range(16)}}
+                       **{m.name: -1 for m in space.memory}, **{f"n{k}": -1 for k in range(16)},
+                       CHOSEN: -1}
         self._signatures = {**BUILTIN_SIGNATURES, **helper_signatures(functions)}
         self._expressions: dict[str, Expression] = {}
         self._functions: dict[str, Expression] = {}  # the behavior's own, by name
@@ -332,10 +333,11 @@ class Executor:
             self._use(run, act.behavior)
             return
         first = chosen_first(self.space, act)
-        if first:  # from the memory as it was
-            param = self._value(act.param, namespace)
+        if first:  # from the memory as it was, as the behavior's graph chooses it
+            param = namespace[CHOSEN] = self._value(act.param, namespace)
         for name, update in memory_updates(self.space, act.primitive):
-            value = self._value(_substitute(update, "PARAM", act.param), namespace)
+            value = self._value(_substitute(update, "PARAM", CHOSEN if first else act.param),
+                                namespace)
             run.variables[name] = namespace[name] = value
         if not first:
             param = self._value(act.param, namespace)

@@ -7,8 +7,8 @@ while a guard holds, at most ``limit`` times when it has one), a :class:`Stop` (
 guard holds) or a :class:`Set` (give a settable memory variable a value: remember something
 now). :meth:`Program.document` writes the behavior file that does exactly that: one node per
 act, edges whose guards, in file order, pick the next act (an end where a guard holds: the
-edges past it taken only where it does not), the env's memory variables kept on the way (a
-settable one only where the program reads it), a set variable assigned on the edges that leave
+edges past it taken only where it does not), the env's memory variables the program reads
+kept on the way (with those their updates read), a set variable assigned on the edges that leave
 the point it is set at, and a counter per loop with a limit. Every node is terminal: where no
 edge can be taken the behavior has finished, and its promise is judged.
 
@@ -246,6 +246,7 @@ class _Writer:
         self.statements = program.statements
         self.space = space
         self.settable = {m.name for m in space.memory if m.settable}
+        self.kept = {m.name for m in space.memory}  # (until :meth:`document` reads the program)
         first = self.statements[0]
         if not isinstance(first, (Act, Use)):
             raise ValueError("a program begins with an act or a library behavior")
@@ -326,14 +327,34 @@ class _Writer:
         evaluates a node's parameter after its edge's assignments)."""
         if isinstance(act, Use):
             return []
-        updates = memory_updates(self.space, act.primitive)
+        updates = [(name, update) for name, update in memory_updates(self.space, act.primitive)
+                   if name in self.kept]
         if chosen_first(self.space, act):
             return [(CHOSEN, act.param)] + [(name, _substitute(update, "PARAM", CHOSEN))
                                             for name, update in updates]
         return [(name, _substitute(update, "PARAM", act.param)) for name, update in updates]
 
+    def _kept(self, read: str) -> set[str]:
+        """The memory a behavior reading ``read`` keeps: what it reads, and what the updates
+        and initial values of what it keeps read."""
+        kept = {m.name for m in self.space.memory if _mentions(read, m.name)}
+        while True:
+            used = " ".join(f"{m.initial} {' '.join(u for _, u in m.updates)}"
+                            for m in self.space.memory if m.name in kept)
+            more = {m.name for m in self.space.memory if _mentions(used, m.name)} - kept
+            if not more:
+                return kept
+            kept |= more
+
     def document(self, name: str, description: str, env_id: str,
                  called: dict[str, tuple[tuple[str, ...], str]]) -> dict[str, Any]:
+        read = " ".join(s.words() for s in self.statements)
+        declared: dict[str, dict[str, Any]] = {}
+        for function, (args, text) in reversed(called.items()):  # (later ones call earlier)
+            if _mentions(read, function) or any(_mentions(f["expr"], function)
+                                                for f in declared.values()):
+                declared[function] = {"args": list(args), "expr": text}
+        self.kept = self._kept(" ".join([read, *(f["expr"] for f in declared.values())]))
         acts = dict(self._acts())
         edges = []
         functions: dict[str, str] = {}  # condition -> the name of the function that holds it
@@ -363,10 +384,9 @@ class _Writer:
                 edges.append(edge)
         first = self.statements[0]
         variables = {}
-        read = " ".join(s.words() for s in self.statements)
         for memory in sorted(self.space.memory, key=lambda m: not m.settable):  # set ones
-            if memory.settable and not _mentions(read, memory.name):  # first: the others'
-                continue  # initial values may read them (the first act's parameter)
+            if memory.name not in self.kept:  # first: the others' initial values may read
+                continue  # them (the first act's parameter)
             initial = memory.initial
             for primitive, update in memory.updates:
                 if isinstance(first, Act) and primitive == first.primitive:
@@ -378,11 +398,6 @@ class _Writer:
                 variables[f"n{k}"] = "0"
         if any(isinstance(act, Act) and chosen_first(self.space, act) for _, act in self._acts()):
             variables[CHOSEN] = self.space.here[1]  # type: ignore[index]
-        declared: dict[str, dict[str, Any]] = {}
-        for function, (args, text) in reversed(called.items()):  # (later ones call earlier)
-            if _mentions(read, function) or any(_mentions(f["expr"], function)
-                                                for f in declared.values()):
-                declared[function] = {"args": list(args), "expr": text}
         declared |= {function: {"args": [], "expr": condition}
                      for condition, function in functions.items()}
         named = {"functions": declared} if declared else {}

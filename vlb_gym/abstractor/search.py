@@ -47,7 +47,7 @@ import time
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from vlb_gym.core.expressions import ExpressionError
+from vlb_gym.core.expressions import BUILTINS, ExpressionError
 from vlb_gym.core.library import BehaviorLibrary, compile_for, compile_spec
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.search_space import SearchSpace
@@ -57,7 +57,7 @@ from vlb_gym.verify.campaign import episode_seed
 from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers.robustness import RobustnessWrapper
 
-from .beliefs import literals, numbers, readings
+from .beliefs import _free_names, literals, numbers, readings
 from .executor import FAILED, OPEN, Executor, Run, _frozen
 from .programs import Act, Loop, Program, Set, Statement, Stop, _loops, acts, reads
 from .statements import Statements
@@ -84,6 +84,7 @@ def fresh_seed() -> int:
     return secrets.randbits(63)
 
 
+MIN_SHARED = 8  # syntax nodes of a part a reading writes more than once, to be named once
 MAX_ORDERS = 4  # lists of named values, in the orders a request names them, per helper
 
 
@@ -206,6 +207,7 @@ class Search:
         self._cheap = cheap
         self._statements: Statements | None = None
         self.functions: dict[str, tuple[tuple[str, ...], str]] = {}  # what programs may call
+        self._shared: dict[str, str | None] = {}  # a part readings repeat -> its function
         self._useful: list[tuple[Statement, int]] = []  # statements (and their costs) of
         # programs that newly kept the promise on a set of probes, and those sets:
         self._covered: list[frozenset[int]] = []
@@ -263,8 +265,10 @@ class Search:
         binders = tuple(k for k in space.types)[:1] * 2
         believed = replace(space, beliefs=self._believed(found))
         decision = {call_name(n) for n in vocabulary.helpers} | set(self.functions)
+        known = decision | set(BUILTINS) | {m.name for m in space.memory}
         for text, bound in readings(self.promise.expr, believed, outcome, decision,
                                     each=vocabulary.each):
+            text = self._factored(text, known, found)
             kind = infer_kind(text, found, space.types, binders[0] if bound and binders else None,
                               vocabulary)
             if kind == "bool" and bound and _loops(ast.parse(text, mode="eval")):
@@ -272,6 +276,7 @@ class Search:
             if kind is not None:
                 vocabulary.fragments.append((kind, text, 1 if bound else 0))
                 cheap |= {call_name(n) for n in vocabulary.helpers if f"{call_name(n)}(" in text}
+                cheap |= {m.name for m in space.memory if re.search(rf"\b{m.name}\b", text)}
         vocabulary.constants = list(dict.fromkeys(vocabulary.constants))
         vocabulary.cheap = frozenset(cheap | self._cheap | set(space.common))
         bank = Bank(vocabulary, found).build(binders)
@@ -290,6 +295,33 @@ class Search:
         for context in found:
             context.namespace[name] = _function(code, args, context.namespace)
         return True
+
+    def _factored(self, text: str, known: set[str], found: list[Context]) -> str:
+        """``text`` with each part it writes more than once (of at least :data:`MIN_SHARED`
+        syntax nodes, of ``known`` names only; the largest first) a call of a function of the
+        behavior of no argument, ``shared1()``, computed once an evaluation: a promise's "let"
+        (``for G in [X]``), read inline, writes ``X`` wherever ``G`` was, and a reading that
+        writes it often is past the language's size bound."""
+        while True:
+            tree = ast.parse(text, mode="eval")
+            seen: dict[str, list[int]] = {}  # part -> [times written, syntax nodes]
+            for node in ast.walk(tree.body):
+                if isinstance(node, ast.expr) and not isinstance(node, (ast.Name, ast.Constant)) \
+                        and _free_names(node) <= known:
+                    part = ast.unparse(node)
+                    seen.setdefault(part, [0, sum(1 for _ in ast.walk(node))])[0] += 1
+            parts = sorted((p for p, (times, size) in seen.items()
+                            if times > 1 and size >= MIN_SHARED), key=lambda p: -seen[p][1])
+            for part in parts:
+                if part not in self._shared:
+                    name = f"shared{sum(v is not None for v in self._shared.values()) + 1}"
+                    self._shared[part] = name if self._name(name, (), part, False, found) \
+                        else None
+                if self._shared[part] is not None:
+                    text = ast.unparse(_Calling(part, self._shared[part]).visit(tree))
+                    break
+            else:
+                return text
 
     def _believed(self, found: list[Context]) -> dict[str, str]:
         """The env's beliefs, each that is a comprehension of no argument (``reachable_goals()``
@@ -588,6 +620,19 @@ class Search:
         finally:
             env.close()
         return None
+
+
+class _Calling(ast.NodeTransformer):
+    """Every expression written as ``part`` replaced by a call of ``name`` (no argument)."""
+
+    def __init__(self, part: str, name: str):
+        self.part, self.name = part, name
+
+    def visit(self, node: ast.AST) -> ast.AST:
+        if isinstance(node, ast.expr) and not isinstance(node, ast.Name) \
+                and ast.unparse(node) == self.part:
+            return ast.Call(ast.Name(self.name, ast.Load()), [], [])
+        return self.generic_visit(node)
 
 
 def _function(code: Any, args: tuple[str, ...], namespace: dict[str, Any]) -> Any:

@@ -113,7 +113,7 @@ class Vocabulary:
     helpers: dict[str, tuple[tuple[str, ...], str]]  # name -> (parameter kinds, result kind)
     variables: dict[str, str]  # memory: name -> kind
     constants: list[tuple[str, str]]  # (kind, text)
-    cheap: frozenset[str] = frozenset()  # helper names and constant texts worth trying first
+    cheap: frozenset[str] = frozenset()  # helper, memory and constant names worth trying first
     fragments: list[tuple[str, str, int]] = field(default_factory=list)  # (kind, text, depth)
     each: set[str] = field(default_factory=set)  # lists of places a promise's "all" speaks of
     visits: frozenset[str] = frozenset()  # memory lists a chosen parameter is added to
@@ -140,8 +140,9 @@ class Vocabulary:
                         constants += [(kind, repr(v)) for v in kind[4:].split("|")]
         constants += [("int", str(k)) for k in range(4)]
         chosen = {p.primitive for p in space.parameters if p.kind is not None}
-        visits = frozenset(m.name for m in space.memory
-                           if any(primitive in chosen for primitive, _ in m.updates))
+        visits = frozenset(m.name for m in space.memory  # every parameter chosen, added
+                           if any(primitive in chosen and update.replace(" ", "") ==
+                                  f"{m.name}+[PARAM]" for primitive, update in m.updates))
         return cls(typed, {m.name: m.kind for m in space.memory},
                    list(dict.fromkeys(constants)), visits=visits)
 
@@ -289,7 +290,8 @@ class Bank:
                 if not params and name in v.cheap:
                     yield Term(f"{call_name(name)}()", result, 1)
             for name, kind in v.variables.items():
-                yield Term(name, kind, 1)
+                if name in v.cheap:
+                    yield Term(name, kind, 1)
             yield from (Term(text, kind, 1) for kind, text, d in v.fragments if d == 0)
             for kind, text in v.constants:
                 if text in v.cheap or kind == "int" or kind.startswith("str:"):
@@ -305,6 +307,9 @@ class Bank:
             for kind, text in v.constants:
                 if not (text in v.cheap or kind == "int" or kind.startswith("str:")):
                     yield Term(text, kind, 2)
+            for name, kind in v.variables.items():
+                if name not in v.cheap:
+                    yield Term(name, kind, 2)
         yield from self._calls(cost, depth)
         yield from self._list_forms(cost, depth)
         yield from self._logic(cost, depth)

@@ -23,7 +23,8 @@ and holds no table of its own about any env. An env that can be synthesized for 
   ``TARGET`` stands for where the behavior ends: ``here``'s expression when the promise is
   read as "if I stopped now", a bound variable when read as "if I ended there"). The search
   reads a promise through them and tries the decision expressions it gets first;
-* ``common``: the decision helpers behaviors of the env use most (a prior: they cost less);
+* ``common``: the decision helpers and memory behaviors of the env use most (a prior: they
+  cost less; other memory costs as much as a call unless a reading of the promise reads it);
 * ``here``: the kind and expression of where the agent is now (``("cell",
   "current_cell()")``), what ``TARGET`` is when read now;
 * ``synonyms``: other words a request may use for a value of a helper's closed set of strings

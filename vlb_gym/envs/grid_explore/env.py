@@ -134,7 +134,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
         """Cells are the one type; ``sense`` takes the agent's cell, ``navigate`` any cell;
         behaviors remember where they began (``home``), where they have stood (``path``),
         where they sensed from (``sensed_from``: what a promise's ``sensed()`` reads, exact
-        after moves that sense nothing) and a cell they chose to (``mark``)."""
+        after moves that sense nothing), what they did once a goal was known (``since_goal``,
+        ``after_goal``: a promise's ``steps_after_goal()`` and ``moves_after_goal()``) and a
+        cell they chose to (``mark``)."""
         return SearchSpace(
             types={"cell": Cell},
             parameters=(Parameter("sense", fixed=("current_cell()",)),
@@ -149,6 +151,14 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                     Memory("sensed_from", "list[cell]", "[]",
                            (("sense", "sensed_from + [PARAM]"),),
                            "the cells the agent sensed from, in order"),
+                    Memory("since_goal", "int", "0",
+                           tuple((name, "since_goal + 1 if goal_found() else 0")
+                                 for name in ("sense", "navigate")),
+                           "how many primitives ran with a goal already known (those after the "
+                           "one that showed the first goal)"),
+                    Memory("after_goal", "list[cell]", "[]",
+                           (("navigate", "after_goal + [PARAM] if goal_found() else after_goal"),),
+                           "the cells moved to with a goal already known, in order"),
                     Memory("mark", "cell", "current_cell()",
                            description="a cell the behavior chose to remember (at first, the "
                            "start)", settable=True)),
@@ -162,6 +172,8 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                                "stop")),
             beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
                      "sensed": "sensed_from",
+                     "steps_after_goal": "since_goal if goal_found() else -1",
+                     "moves_after_goal": "after_goal",
                      "is_goal": "label({0}) == 'goal'", "is_obstacle": "label({0}) == 'obstacle'",
                      "goal_found": "goal_found()", "neighbours": "adjacent({0})",
                      "known_cells": "explored()",
@@ -169,7 +181,8 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                      "reachable_cells": "[k for k in explored() if is_free(k)]",
                      "reachable_goals": "[k for k in explored() if label(k) == 'goal']",
                      "explored_all": "len(frontier_cells()) == 0"},
-            common=("current_cell", "explored", "frontier_cells", "goal_found", "label"),
+            common=("current_cell", "explored", "frontier_cells", "goal_found", "label",
+                    "home", "path", "sensed_from", "mark"),
             here=("cell", "current_cell()"),
             synonyms={"above": "up", "below": "down", "north": "up", "south": "down",
                       "east": "right", "west": "left"}, max_steps=4 * self.size * self.size // 3)
