@@ -897,7 +897,8 @@ def test_every_reading_of_every_task_promise_is_an_expression(interface):
                                         "heldout6", "heldout7", "heldout8", "heldout9",
                                         "heldout10", "heldout11", "heldout12", "heldout13",
                                         "heldout14", "heldout15", "heldout16",
-                                        "heldout17", "heldout18", "dev_general")
+                                        "heldout17", "heldout18", "heldout19",
+                                        "dev_general")
                        for t in load_tasks(ROOT / "benchmarks" / folder / "tasks.py"))]
     grid = [t for t in tasks if t.env_id == GRID_ID]
     assert len(grid) >= 70
@@ -1067,7 +1068,8 @@ def test_the_bank_holds_no_evaluation_task():
     others = [t for folder in ("heldout", "heldout2", "heldout3", "heldout4", "heldout5",
                                "heldout6", "heldout7", "heldout8", "heldout9", "heldout10",
                                "heldout11", "heldout12", "heldout13", "heldout14",
-                               "heldout15", "heldout16", "heldout17", "heldout18", "dev_general")
+                               "heldout15", "heldout16", "heldout17", "heldout18", "heldout19",
+                               "dev_general")
               for t in load_tasks(ROOT / "benchmarks" / folder / "tasks.py")]
     for task in [*TASKS, *others]:
         assert task.description.lower() not in requests
