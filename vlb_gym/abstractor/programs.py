@@ -334,18 +334,6 @@ class _Writer:
                                             for name, update in updates]
         return [(name, _substitute(update, "PARAM", act.param)) for name, update in updates]
 
-    def _kept(self, read: str) -> set[str]:
-        """The memory a behavior reading ``read`` keeps: what it reads, and what the updates
-        and initial values of what it keeps read."""
-        kept = {m.name for m in self.space.memory if _mentions(read, m.name)}
-        while True:
-            used = " ".join(f"{m.initial} {' '.join(u for _, u in m.updates)}"
-                            for m in self.space.memory if m.name in kept)
-            more = {m.name for m in self.space.memory if _mentions(used, m.name)} - kept
-            if not more:
-                return kept
-            kept |= more
-
     def document(self, name: str, description: str, env_id: str,
                  called: dict[str, tuple[tuple[str, ...], str]]) -> dict[str, Any]:
         read = " ".join(s.words() for s in self.statements)
@@ -354,7 +342,8 @@ class _Writer:
             if _mentions(read, function) or any(_mentions(f["expr"], function)
                                                 for f in declared.values()):
                 declared[function] = {"args": list(args), "expr": text}
-        self.kept = self._kept(" ".join([read, *(f["expr"] for f in declared.values())]))
+        self.kept = self.space.memory_read(" ".join([read, *(f["expr"]
+                                                             for f in declared.values())]))
         acts = dict(self._acts())
         edges = []
         functions: dict[str, str] = {}  # condition -> the name of the function that holds it

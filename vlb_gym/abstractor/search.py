@@ -276,11 +276,24 @@ class Search:
             if kind is not None:
                 vocabulary.fragments.append((kind, text, 1 if bound else 0))
                 cheap |= {call_name(n) for n in vocabulary.helpers if f"{call_name(n)}(" in text}
-                cheap |= {m.name for m in space.memory if re.search(rf"\b{m.name}\b", text)}
         vocabulary.constants = list(dict.fromkeys(vocabulary.constants))
         vocabulary.cheap = frozenset(cheap | self._cheap | set(space.common))
+        space = self._narrowed(vocabulary)
+        vocabulary.variables = {m.name: m.kind for m in space.memory}
         bank = Bank(vocabulary, found).build(binders)
         return Statements(bank, space, limits, list(self.executor.behaviors))
+
+    def _narrowed(self, vocabulary: Vocabulary) -> SearchSpace:
+        """The search's space narrowed to the memory the env declares ``common`` and that the
+        promise's readings (and the functions they call) read, with what their updates and
+        initial values read: other memory is neither a term nor kept by the behaviors run and
+        written (what the promise does not speak of costs nothing)."""
+        read = " ".join([*(text for _, text, _ in vocabulary.fragments),
+                         *(text for _, text in self.functions.values()), *self.space.common])
+        kept = self.space.memory_read(read)
+        self.space = self.executor.space = replace(
+            self.space, memory=tuple(m for m in self.space.memory if m.name in kept))
+        return self.space
 
     def _name(self, name: str, args: tuple[str, ...], text: str, condition: bool,
               found: list[Context]) -> bool:

@@ -113,7 +113,7 @@ class Vocabulary:
     helpers: dict[str, tuple[tuple[str, ...], str]]  # name -> (parameter kinds, result kind)
     variables: dict[str, str]  # memory: name -> kind
     constants: list[tuple[str, str]]  # (kind, text)
-    cheap: frozenset[str] = frozenset()  # helper, memory and constant names worth trying first
+    cheap: frozenset[str] = frozenset()  # helper names and constant texts worth trying first
     fragments: list[tuple[str, str, int]] = field(default_factory=list)  # (kind, text, depth)
     each: set[str] = field(default_factory=set)  # lists of places a promise's "all" speaks of
     visits: frozenset[str] = frozenset()  # memory lists a chosen parameter is added to
@@ -290,8 +290,7 @@ class Bank:
                 if not params and name in v.cheap:
                     yield Term(f"{call_name(name)}()", result, 1)
             for name, kind in v.variables.items():
-                if name in v.cheap:
-                    yield Term(name, kind, 1)
+                yield Term(name, kind, 1)
             yield from (Term(text, kind, 1) for kind, text, d in v.fragments if d == 0)
             for kind, text in v.constants:
                 if text in v.cheap or kind == "int" or kind.startswith("str:"):
@@ -307,9 +306,6 @@ class Bank:
             for kind, text in v.constants:
                 if not (text in v.cheap or kind == "int" or kind.startswith("str:")):
                     yield Term(text, kind, 2)
-            for name, kind in v.variables.items():
-                if name not in v.cheap:
-                    yield Term(name, kind, 2)
         yield from self._calls(cost, depth)
         yield from self._list_forms(cost, depth)
         yield from self._logic(cost, depth)
@@ -412,6 +408,8 @@ class Bank:
                                            f"in {_source(xs.text)}])]", item, cost, depth)
 
     def _logic(self, cost: int, depth: int) -> Iterator[Term]:
+        if len(self.terms.get(("bool", depth), ())) >= self.max_kept:
+            return  # (no room: none would be kept)
         kinds = [k for (k, _) in self.terms if k != "bool"]
         for kind in dict.fromkeys(kinds):
             ordered = kind == "int"

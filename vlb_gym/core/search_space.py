@@ -23,8 +23,9 @@ and holds no table of its own about any env. An env that can be synthesized for 
   ``TARGET`` stands for where the behavior ends: ``here``'s expression when the promise is
   read as "if I stopped now", a bound variable when read as "if I ended there"). The search
   reads a promise through them and tries the decision expressions it gets first;
-* ``common``: the decision helpers and memory behaviors of the env use most (a prior: they
-  cost less; other memory costs as much as a call unless a reading of the promise reads it);
+* ``common``: the decision helpers and memory behaviors of the env use most (a prior: those
+  helpers cost less; memory not named here is searched only where a reading of the promise
+  reads it);
 * ``here``: the kind and expression of where the agent is now (``("cell",
   "current_cell()")``), what ``TARGET`` is when read now;
 * ``synonyms``: other words a request may use for a value of a helper's closed set of strings
@@ -38,6 +39,7 @@ and holds no table of its own about any env. An env that can be synthesized for 
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -107,3 +109,16 @@ class SearchSpace:
     screening: int = 30
     max_steps: int | None = None
     context_steps: int = 6 * 48
+
+    def memory_read(self, text: str) -> set[str]:
+        """The names of the memory ``text`` reads, with the memory their initial values and
+        updates read (a behavior that reads them keeps those too)."""
+        kept: set[str] = set()
+        while True:
+            more = {m.name for m in self.memory
+                    if re.search(rf"(?<![\w']){re.escape(m.name)}(?![\w'])", text)} - kept
+            if not more:
+                return kept
+            kept |= more
+            text = " ".join(f"{m.initial} {' '.join(u for _, u in m.updates)}"
+                            for m in self.memory if m.name in more)
