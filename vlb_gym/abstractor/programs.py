@@ -28,6 +28,8 @@ from typing import Any
 
 from vlb_gym.core.expressions import MAX_GENERATORS, MAX_NODES, MAX_SOURCE_CHARS
 from vlb_gym.core.search_space import SearchSpace
+from vlb_gym.core.search_space import mentions as _mentions
+from vlb_gym.core.search_space import name_pattern as _name
 
 END = "<end>"
 CHOSEN = "chosen"  # the variable a parameter that reads updated memory is chosen into
@@ -171,15 +173,6 @@ def _list_of(param: str) -> str | None:
     if isinstance(tree, ast.Subscript) and not isinstance(tree.slice, ast.Slice):
         return ast.unparse(tree.value)
     return None
-
-
-def _name(name: str) -> str:
-    """A pattern of ``name`` as a whole name (not inside another, nor a string's words)."""
-    return rf"(?<![\w']){re.escape(name)}(?![\w'])"
-
-
-def _mentions(text: str, name: str) -> bool:
-    return re.search(_name(name), text) is not None
 
 
 def _substitute(text: str, name: str, value: str) -> str:

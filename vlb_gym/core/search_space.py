@@ -93,6 +93,16 @@ class Witness:
                  self.steps * times) for times in range(1, max(self.most, 1) + 1)]
 
 
+def name_pattern(name: str) -> str:
+    """A pattern of ``name`` as a whole name (not inside another, nor a string's words)."""
+    return rf"(?<![\w']){re.escape(name)}(?![\w'])"
+
+
+def mentions(text: str, name: str) -> bool:
+    """Whether the expression ``text`` reads the name ``name``."""
+    return re.search(name_pattern(name), text) is not None
+
+
 @dataclass(frozen=True)
 class SearchSpace:
     """An env's declaration for the behavior synthesizer (see the module's docstring)."""
@@ -115,8 +125,7 @@ class SearchSpace:
         updates read (a behavior that reads them keeps those too)."""
         kept: set[str] = set()
         while True:
-            more = {m.name for m in self.memory
-                    if re.search(rf"(?<![\w']){re.escape(m.name)}(?![\w'])", text)} - kept
+            more = {m.name for m in self.memory if mentions(text, m.name)} - kept
             if not more:
                 return kept
             kept |= more
