@@ -18,8 +18,8 @@ from hypothesis import strategies as st
 
 from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
-from vlb_gym.abstractor.beliefs import (MAX_CASES, MAX_READINGS, _cases, _Reader, numbers,
-                                       readings, witnesses)
+from vlb_gym.abstractor.beliefs import (MAX_CASES, MAX_READINGS, _at_each, _cases, _Reader,
+                                       numbers, readings, witnesses)
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
@@ -490,6 +490,34 @@ def test_a_loop_guarded_by_its_own_act_is_plain_and_moving_until_blocked_is_foun
         search.close()
 
 
+ROW_GOAL_ELSE_HOME = Promise(expr=(
+    "goal_found() and all(((steps_after_goal() == 1 and primitives()[-1:] == ['navigate'] and "
+    "final_cell() in G) if len(G) > 0 else (final_cell() == start_cell() and steps_after_goal() "
+    "== (0 if sensed()[-1] == start_cell() else 1))) for G in [[x for x in "
+    "neighbours(sensed()[-1]) if x[1] == sensed()[-1][1] and is_goal(x)]])"))
+
+
+def test_the_first_of_places_the_promise_counts_else_where_it_may_end_is_one_act():
+    """A promise that tells apart "some such place" and "none" (``len(G) > 0``) and may end
+    where the behavior began: "onto the first of them, else home" is one act tried after every
+    prefix (``(G + [home])[0]``), so "explore until a goal is in view, then onto a goal beside
+    you in your row, else back to the start" is found (held-out set 18's, none of 40,000
+    programs without it)."""
+    search = Search(GRID_ID, ROW_GOAL_ELSE_HOME, "explore until a goal is in view; step onto a "
+                    "goal beside you in your row if there is one, else go back to the start",
+                    screen_seed=777)
+    try:
+        listed = ("[p0 for p0 in adjacent(sensed_from[-1]) if p0[1] == sensed_from[-1][1] and "
+                  "label(p0) == 'goal']")
+        else_home = Act("navigate", f"({listed} + [home])[0]")
+        assert else_home in search.statements().completions()
+        found = search.find(600, max_programs=30_000)
+        assert found is not None and else_home in found.program.statements
+        assert search.rescreen(search.document(found, "row_goal_else_home", "")) is None
+    finally:
+        search.close()
+
+
 RIGHT_TO_SIGHTED_GOAL = Promise(expr=(
     "all(primitives() == ['sense'] + ['navigate', 'sense'] * k + ['navigate'] * g and "
     "moves()[:k] == [(start_cell()[0] + n, start_cell()[1]) for n in [1, 2, 3, 4, 5, 6, 7, 8, "
@@ -846,6 +874,8 @@ X2 = "abs(final_cell()[0] - 2)"
      "explored()[argmax([p0[1] for p0 in explored()])]"),
     ("min(n[1] for n in known_cells()) >= final_cell()[1]",
      "explored()[argmin([p0[1] for p0 in explored()])]"),
+    ("moves()[0][1] == min([s[1] for s in sensed()])",  # of a list; the first move's place
+     "sensed_from[argmin([p0[1] for p0 in sensed_from])]"),
     ("final_cell()[1] >= min(n[1] for n in known_cells())", None),  # true of every element
     ("max(n[1] for n in known_cells()) >= final_cell()[1]", None),
     ("not final_cell()[1] == max(n[1] for n in known_cells())", None),  # asks it not to be
@@ -917,6 +947,50 @@ def test_every_reading_of_every_task_promise_is_an_expression(interface):
     for task in grid:
         for text, _ in readings(task.promise, space, outcome, decision):
             compile(text, task.name, "eval")
+
+
+EACH_LOOK = ("primitives()[-1:] == ['sense'] and [len([c for c in K if is_obstacle(c)]) >= 4 "
+             "for K in [known_before_last(), known_cells()]] in [[False, True]] + "
+             "([[False, False]] if explored_all() and len(known_before_last()) < "
+             "len(known_cells()) else [])")
+
+
+def test_a_promise_for_each_of_a_few_values_is_read_at_each_it_can_be(interface):
+    """``[E for K in [A, B]]`` ("before the last look, and after it") cannot be read whole
+    where no belief reads ``A`` (``known_before_last()``); ``E`` at ``B`` still is, and the
+    search explores until that reading holds (none of 20,000 programs without it)."""
+    space = interface.search_space()
+    read = dict(readings(EACH_LOOK, space, set(interface.make_judge().functions()),
+                         set(interface.make_helpers().functions())))
+    count = "len([p1 for p1 in explored() if label(p1) == 'obstacle']) >= 4"
+    assert read[count] is False
+    assert not any("known_before_last" in text for text in read)
+    search = Search(GRID_ID, Promise(expr=EACH_LOOK), "explore until you know of four "
+                    "obstacles, then stop", screen_seed=5)
+    try:
+        found = search.find(600, max_programs=4_000)
+        assert found is not None and f"not ({count})" in found.program.words()
+        assert search.rescreen(search.document(found, "four_obstacles", "")) is None
+    finally:
+        search.close()
+
+
+def test_values_written_out_in_values_written_out_give_bounded_readings(interface):
+    """Comprehensions over values written out, nested twelve deep or sixty side by side, give
+    at most MAX_READINGS readings: a nested one is not copied at each outer value."""
+    space = interface.search_space()
+    outcome = set(interface.make_judge().functions())
+    decision = set(interface.make_helpers().functions())
+    values = "[known_before_last(), known_cells(), sensed(), moves()]"
+    nested = "is_obstacle(final_cell())"
+    for k in range(12):
+        nested = f"all([{nested} and len(K{k}) > {k} for K{k} in {values}])"
+    beside = " and ".join(f"all([len(K) > {k} for K in {values}])" for k in range(60))
+    for expr in (nested, beside):
+        assert 0 < len(readings(expr, space, outcome, decision)) <= MAX_READINGS
+    outer = ast.parse(nested, mode="eval").body.args[0]  # (the outermost list)
+    assert _at_each(outer) == []  # copied at each value, the nested would be 4**12
+    assert len(_at_each(ast.parse(f"[len(K) for K in {values}]", mode="eval").body)) == 4
 
 
 def test_nested_alternatives_are_read_once_each(interface):

@@ -8,8 +8,10 @@ gives no belief for is left out: of ``A and B`` the reading is ``A``'s; where a 
 be read, as ``X if C else primitives() == [...]``, its largest parts that can are, ``C`` and
 ``X``), twice: with the place where the behavior ends read as *here* ("would the promise hold
 if I stopped now?": a stopping condition) and as a bound variable ``c`` ("would it hold if I
-ended in c?": a filter for where to go). Every sub-expression of the readings is offered to the search at the cost of one name,
-with the constants the promise and the request name (numbers, cells, lists of cells). A place
+ended in c?": a filter for where to go). A comprehension over a few values written out
+(``[E for K in [known_before_last(), known_cells()]]``) is read at each value it can be. Every
+sub-expression of the readings is offered to the search at the cost of one name, with the
+constants the promise and the request name (numbers, cells, lists of cells). A place
 the promise says is the least or greatest of a list's elements by some score (the nearest, the
 one with the fewest obstacles next to it: :func:`extremes`) is read as the expression that picks
 it, so that going there costs one name too, and so are the places a quantifier speaks of
@@ -30,6 +32,7 @@ from vlb_gym.core.search_space import SearchSpace
 TARGET = "TARGET"
 MAX_READINGS = 60
 MAX_CASES = 5  # a promise and the readable cases of its conditionals
+MAX_EACH = 4  # values of a comprehension over a list written out, each read on its own
 _NUMBER_WORDS = {"once": 1, "one": 1, "twice": 2, "two": 2, "three": 3, "thrice": 3,
                  "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9, "ten": 10}
 
@@ -250,8 +253,9 @@ def _extreme(elt: ast.expr, name: str) -> Extreme | None:
 
 
 def _generator(node: ast.AST) -> ast.comprehension | None:
-    """The one generator of a generator expression over a plain name, or None."""
-    if isinstance(node, ast.GeneratorExp) and len(node.generators) == 1 \
+    """The one generator of a generator expression (or a list comprehension) over a plain
+    name, or None."""
+    if isinstance(node, (ast.GeneratorExp, ast.ListComp)) and len(node.generators) == 1 \
             and isinstance(node.generators[0].target, ast.Name):
         return node.generators[0]
     return None
@@ -432,12 +436,43 @@ def _readable(reader: _Reader, node: ast.AST) -> list[ast.AST]:
     (``C``, ``X``), outermost first; so are the parts of those an ``and``/``or`` left out."""
     read = reader.read(node)
     if read is None:
-        return [part for child in ast.iter_child_nodes(node)
+        return [part for each in _at_each(node) for part in _readable(reader, each)] \
+            + [part for child in ast.iter_child_nodes(node)
                 if isinstance(child, ast.expr) and not isinstance(child, ast.Slice)
                 for part in _readable(reader, child)]
     dropped = [v for v in node.values if reader.read(v) is None] \
         if isinstance(node, ast.BoolOp) else []  # (left out of the reading of and/or)
     return [read, *(part for value in dropped for part in _readable(reader, value))]
+
+
+def _at_each(node: ast.AST) -> list[ast.expr]:
+    """Of a comprehension over a list of a few values written out (``[E for K in [A, B]]``, a
+    promise's way of saying "for each of A and B"), ``E`` at each value, ``A`` then ``B``: the
+    ones that can be read are readings even where another cannot (``known_before_last()``).
+    Not where ``E`` holds such a comprehension itself: nested, the copies would multiply."""
+    if _each(node) is None or any(_each(n) is not None for n in ast.walk(node.elt)):
+        return []
+    generator = node.generators[0]
+    out = []
+    for value in generator.iter.elts:
+        holder = ast.Expression(body=copy.deepcopy(node.elt))
+        _substitute(holder, generator.target.id, value)
+        out.append(ast.fix_missing_locations(holder.body))
+    return out
+
+
+def _each(node: ast.AST) -> ast.comprehension | None:
+    """The generator of ``node`` where it is a comprehension over 2 to :data:`MAX_EACH` values
+    written out, without a filter; else None."""
+    if not isinstance(node, (ast.ListComp, ast.GeneratorExp, ast.SetComp)) \
+            or len(node.generators) != 1:
+        return None
+    generator = node.generators[0]
+    if not isinstance(generator.target, ast.Name) or generator.ifs \
+            or not isinstance(generator.iter, (ast.List, ast.Tuple)) \
+            or not 2 <= len(generator.iter.elts) <= MAX_EACH:
+        return None
+    return generator
 
 
 def _free_names(node: ast.AST) -> set[str]:

@@ -183,25 +183,46 @@ class Statements:
     def completions(self) -> list[Statement]:
         """Statements to try at once after every prefix: acts whose parameter is read from the
         promise (a place the promise would hold at, the first of the places it would, a memory
-        variable the promise's readings name: where the behavior began), each also as "if it
-        does something" (go to the start unless there); one that picks from the places an
-        ``all`` of the promise speaks of first as a loop over them ("each goal not yet moved
-        onto": on episodes where one is left it acts as the single act, and of programs that
-        act alike the first built is kept)."""
+        variable the promise's readings name: where the behavior began, the first of the places,
+        where the promise counts them, else a memory it may end at: "onto a goal in view, else
+        home"), each also as "if it does something" (go to the start unless there); one that
+        picks from the places an ``all`` of the promise speaks of first as a loop over them
+        ("each goal not yet moved onto": on episodes where one is left it acts as the single
+        act, and of programs that act alike the first built is kept)."""
         out: list[Statement] = []
         read = " ".join(text for _, text, _ in self.bank.vocabulary.fragments)
         named = {m.name for m in self.space.memory if re.search(rf"\b{m.name}\b", read)}
         for parameter in self.space.parameters:
             if parameter.kind is None:
                 continue
+            fallbacks = [m.name for m in self.space.memory if m.kind == parameter.kind
+                         and self._ends_at(m.name)]
             for term in self._parameters(parameter):
-                if term.reading or term.text in named or (
-                        term.text.endswith("[0]") and _reads(self.bank, term)):
-                    act = Act(parameter.primitive, term.text)
-                    each = [Loop("True", (act,))] if _list_of(term.text) in \
-                        self.bank.vocabulary.each else []
-                    out += [*each, act, *(If(g, (act,)) for g in [self.acting(act)] if g)]
+                first = term.text.endswith("[0]") and _reads(self.bank, term)
+                if term.reading or term.text in named or first:
+                    listed = _list_of(term.text)
+                    texts = [term.text, *(f"({listed} + [{m}])[0]" for m in fallbacks
+                                          if first and self._counted(listed))]
+                    for text in texts:
+                        act = Act(parameter.primitive, text)
+                        each = [Loop("True", (act,))] if _list_of(text) in \
+                            self.bank.vocabulary.each else []
+                        out += [*each, act, *(If(g, (act,)) for g in [self.acting(act)] if g)]
         return out
+
+    def _counted(self, listed: str) -> bool:
+        """Whether a reading of the promise counts the list ``listed`` (``len(L) > 0``: the
+        promise tells apart the cases where it is empty and where it is not)."""
+        return any(text.startswith(f"len({listed}) ")
+                   for _, text, _ in self.bank.vocabulary.fragments)
+
+    def _ends_at(self, name: str) -> bool:
+        """Whether a reading of the promise is "here is the memory ``name``" (it may end there:
+        where the behavior began, in one of its cases)."""
+        here = self.space.here[1] if self.space.here else None
+        return here is not None and any(
+            text in (f"{here} == {name}", f"{name} == {here}")
+            for _, text, _ in self.bank.vocabulary.fragments)
 
     def feasible(self, act: Act) -> str | None:
         """The guard "``act`` can be done" (its parameter's ``feasible`` expression), if its
