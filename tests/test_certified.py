@@ -511,7 +511,7 @@ def test_the_first_of_places_the_promise_counts_else_where_it_may_end_is_one_act
                   "label(p0) == 'goal']")
         else_home = Act("navigate", f"({listed} + [home])[0]")
         assert else_home in search.statements().completions()
-        found = search.find(600, max_programs=30_000)
+        found = search.find(600, max_programs=15_000)
         assert found is not None and else_home in found.program.statements
         assert search.rescreen(search.document(found, "row_goal_else_home", "")) is None
     finally:
