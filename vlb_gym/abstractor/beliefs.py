@@ -145,13 +145,19 @@ class _Inliner(ast.NodeTransformer):
     visit_ListComp = visit_GeneratorExp = visit_SetComp = _comprehension
 
 
+def _written_out(generator: ast.comprehension) -> list[ast.expr]:
+    """The values ``generator`` binds its name to where they are written out (``for K in [A,
+    B]``, no filter), else none."""
+    if isinstance(generator.target, ast.Name) and not generator.ifs \
+            and not generator.is_async and isinstance(generator.iter, (ast.List, ast.Tuple)):
+        return generator.iter.elts
+    return []
+
+
 def _single(generator: ast.comprehension) -> ast.expr | None:
     """The one value ``generator`` binds its name to, or None."""
-    if isinstance(generator.target, ast.Name) and not generator.ifs \
-            and not generator.is_async and isinstance(generator.iter, (ast.List, ast.Tuple)) \
-            and len(generator.iter.elts) == 1:
-        return generator.iter.elts[0]
-    return None
+    values = _written_out(generator)
+    return values[0] if len(values) == 1 else None
 
 
 def _substitute(node: ast.AST, name: str, value: ast.expr) -> None:
@@ -450,29 +456,24 @@ def _at_each(node: ast.AST) -> list[ast.expr]:
     promise's way of saying "for each of A and B"), ``E`` at each value, ``A`` then ``B``: the
     ones that can be read are readings even where another cannot (``known_before_last()``).
     Not where ``E`` holds such a comprehension itself: nested, the copies would multiply."""
-    if _each(node) is None or any(_each(n) is not None for n in ast.walk(node.elt)):
+    if not _each(node) or any(_each(n) for n in ast.walk(node.elt)):
         return []
-    generator = node.generators[0]
     out = []
-    for value in generator.iter.elts:
+    for value in _each(node):
         holder = ast.Expression(body=copy.deepcopy(node.elt))
-        _substitute(holder, generator.target.id, value)
+        _substitute(holder, node.generators[0].target.id, value)
         out.append(ast.fix_missing_locations(holder.body))
     return out
 
 
-def _each(node: ast.AST) -> ast.comprehension | None:
-    """The generator of ``node`` where it is a comprehension over 2 to :data:`MAX_EACH` values
-    written out, without a filter; else None."""
+def _each(node: ast.AST) -> list[ast.expr]:
+    """The 2 to :data:`MAX_EACH` values written out that ``node``, a comprehension of one
+    generator, binds its name to; else none."""
     if not isinstance(node, (ast.ListComp, ast.GeneratorExp, ast.SetComp)) \
             or len(node.generators) != 1:
-        return None
-    generator = node.generators[0]
-    if not isinstance(generator.target, ast.Name) or generator.ifs \
-            or not isinstance(generator.iter, (ast.List, ast.Tuple)) \
-            or not 2 <= len(generator.iter.elts) <= MAX_EACH:
-        return None
-    return generator
+        return []
+    values = _written_out(node.generators[0])
+    return values if 2 <= len(values) <= MAX_EACH else []
 
 
 def _free_names(node: ast.AST) -> set[str]:

@@ -200,9 +200,9 @@ class Statements:
             for term in self._parameters(parameter):
                 first = term.text.endswith("[0]") and _reads(self.bank, term)
                 if term.reading or term.text in named or first:
-                    listed = _list_of(term.text)
-                    texts = [term.text, *(f"({listed} + [{m}])[0]" for m in fallbacks
-                                          if first and self._counted(listed))]
+                    texts = [term.text]
+                    if first and self._counted(listed := _list_of(term.text)):
+                        texts += [f"({listed} + [{m}])[0]" for m in fallbacks]
                     for text in texts:
                         act = Act(parameter.primitive, text)
                         each = [Loop("True", (act,))] if _list_of(text) in \
