@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from vlb_gym import BehaviorSpecError
 from vlb_gym.abstractor.backends import ScriptedBackend, TranscriptBackend
 from vlb_gym.abstractor.beliefs import (MAX_CASES, MAX_READINGS, _at_each, _cases, _Reader,
-                                       numbers, readings, witnesses)
+                                        after_moving, numbers, readings, witnesses)
 from vlb_gym.abstractor.certified import Seeds, certify_promise, synthesize_certified
 from vlb_gym.abstractor.certify import certification_episodes, certify, procedure_confidence
 from vlb_gym.abstractor.intent import bank, draft_promise, nearest, parse_promise
@@ -518,6 +518,41 @@ def test_the_first_of_places_the_promise_counts_else_where_it_may_end_is_one_act
         search.close()
 
 
+CLUTTERED_SEARCH_HOME = Promise(expr=(  # held-out set 18's, development data since its run
+    "goal_found() and ((final_cell() == start_cell() and steps_after_goal() == (0 if sensed()[-1] "
+    "== start_cell() else 1) and primitives()[-1:] == (['sense'] if sensed()[-1] == start_cell() "
+    "else ['navigate'])) if 2 * len([s for s in sensed() if any(is_obstacle(x) for x in "
+    "neighbours(s))]) > len(sensed()) else (steps_after_goal() == (0 if is_goal(sensed()[-1]) "
+    "else 1) and is_goal(final_cell()) and final_cell() in [sensed()[-1]] + "
+    "neighbours(sensed()[-1])))"))
+
+
+def test_where_the_promise_would_hold_after_one_more_move_is_one_act():
+    """"Home if most looks showed an obstacle beside them, else onto the goal, with one move"
+    counts the move (``steps_after_goal() == 1``): where it would hold *now* no cell does, and
+    where it would hold after one more move to ``c`` (``promised_after(c)``) is the goal or
+    home. Moving to the first known cell where it would is one act tried after every prefix
+    (skipped where there is none: the agent is there already); its parameter is chosen before
+    the move's memory updates, by the search and by the behavior file it writes alike."""
+    search = Search(GRID_ID, CLUTTERED_SEARCH_HOME, "search for a goal; once one is in view, "
+                    "home if most of your looks showed an obstacle beside you, else onto it",
+                    screen_seed=777)
+    try:
+        after = Act("navigate", "[c for c in explored() if promised_after(c)][0]")
+        assert after in search.statements().completions()
+        explore = (Act("sense", "current_cell()"), Loop("not goal_found()", (
+            Act("navigate", "frontier_cells()[0]"), Act("sense", "current_cell()"))))
+        program = Program((*explore, after))
+        assert search.keeps(program)
+        assert not search.keeps(Program((*explore, Act(
+            "navigate", "[c for c in explored() if promised_at(c)][0]"))))
+        document = search.document(Found(program, 0), "cluttered_search_home", "")
+        assert any(edge.get("param") == CHOSEN for edge in document["edges"])
+        assert search.rescreen(document) is None
+    finally:
+        search.close()
+
+
 RIGHT_TO_SIGHTED_GOAL = Promise(expr=(
     "all(primitives() == ['sense'] + ['navigate', 'sense'] * k + ['navigate'] * g and "
     "moves()[:k] == [(start_cell()[0] + n, start_cell()[1]) for n in [1, 2, 3, 4, 5, 6, 7, 8, "
@@ -780,6 +815,22 @@ def test_a_conditional_the_agent_cannot_read_is_read_as_each_case_it_can(interfa
     assert len(_cases(_Reader(space.beliefs, outcome), ast.parse(" or ".join(
         ["(is_goal(final_cell()) if len(primitives()) == 4 else is_obstacle(final_cell()))"]
         * 8), mode="eval").body)) == MAX_CASES  # bounded however many conditionals
+
+
+def test_a_promise_is_read_as_it_would_be_after_one_more_move(interface):
+    """"Would the promise hold if I moved to c now and stopped?": where the behavior ends and
+    where the agent is read as ``c``, and the memory a move updates as updated (the steps after
+    the goal one more, ``c`` the last move); nothing where the promise reads none of it."""
+    space = interface.search_space()
+    outcome = set(interface.make_judge().functions())
+    decision = set(interface.make_helpers().functions())
+    assert after_moving("is_goal(final_cell()) and steps_after_goal() == 1", space, outcome,
+                        decision) == ["label(c) == 'goal' and ((since_goal + 1 if goal_found() "
+                                      "else 0) if goal_found() else -1) == 1"]
+    assert after_moving("moves()[-1:] == [start_cell()] and len(moves()) == 3", space, outcome,
+                        decision) == ["(path + [c])[1:][-1:] == [home] and "
+                                      "len((path + [c])[1:]) == 3"]
+    assert after_moving("final_cell() == start_cell()", space, outcome, decision) == []
 
 
 @pytest.mark.parametrize("expr, places", [

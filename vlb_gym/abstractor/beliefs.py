@@ -8,7 +8,8 @@ gives no belief for is left out: of ``A and B`` the reading is ``A``'s; where a 
 be read, as ``X if C else primitives() == [...]``, its largest parts that can are, ``C`` and
 ``X``), twice: with the place where the behavior ends read as *here* ("would the promise hold
 if I stopped now?": a stopping condition) and as a bound variable ``c`` ("would it hold if I
-ended in c?": a filter for where to go). A comprehension over a few values written out
+ended in c?": a filter for where to go); :func:`after_moving` reads it once more as it would be
+after one more move to ``c`` (the steps and moves it counts one more). A comprehension over a few values written out
 (``[E for K in [known_before_last(), known_cells()]]``) is read at each value it can be. Every
 sub-expression of the readings is offered to the search at the cost of one name, with the
 constants the promise and the request name (numbers, cells, lists of cells). A place
@@ -340,6 +341,20 @@ def extremes(tree: ast.expr) -> list[ast.expr]:
     return out
 
 
+def _parsed(promise: str, space: SearchSpace, outcome: set[str], variable: str
+            ) -> tuple[ast.expr, _Reader] | None:
+    """``promise``'s tree (a "let" inlined, its comprehension names away from ``variable``) and
+    the reader of ``space``'s beliefs; None where the space has none or the text is no
+    expression."""
+    if not space.beliefs or space.here is None:
+        return None
+    try:
+        tree = _renamed(_inlined(ast.parse(promise, mode="eval")).body, {variable})
+    except SyntaxError:
+        return None
+    return tree, _Reader(space.beliefs, outcome)
+
+
 def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[str],
              variable: str = "c", each: set[str] | None = None) -> list[tuple[str, bool]]:
     """Decision expressions read from ``promise`` (see the module's docstring): each as
@@ -347,13 +362,10 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
     outcome helper names, ``decision`` the names a decision expression may use; ``each``,
     where given, gets the readings that list the places an ``all`` speaks of (every one to be
     seen to)."""
-    if not space.beliefs or space.here is None:
+    parsed = _parsed(promise, space, outcome, variable)
+    if parsed is None:
         return []
-    try:
-        tree = _renamed(_inlined(ast.parse(promise, mode="eval")).body, {variable})
-    except SyntaxError:
-        return []
-    reader = _Reader(space.beliefs, outcome)
+    tree, reader = parsed
     known = decision | set(BUILTINS) | {m.name for m in space.memory}
     out: dict[str, bool] = {}
     for extreme in extremes(tree):
@@ -376,6 +388,56 @@ def readings(promise: str, space: SearchSpace, outcome: set[str], decision: set[
                     if each is not None and part is not node and node.func.id == "all":
                         each.add(ast.unparse(part))
     return list(out.items())[:MAX_READINGS]
+
+
+def after_moving(promise: str, space: SearchSpace, outcome: set[str], decision: set[str],
+                 variable: str = "c") -> list[str]:
+    """The promise (its first case that can be read) read as "would it hold if one more act
+    moved the agent to ``variable`` now, and the behavior ended there?", for each primitive
+    whose parameter is of the space's first kind: where the behavior ends and where the agent
+    is read as ``variable``, and the memory that act updates as it would be updated (the steps
+    and the moves a promise counts are one more). Only where that changes the reading; a
+    parameter that filters by one is chosen before the updates."""
+    parsed = _parsed(promise, space, outcome, variable)
+    if parsed is None or space.here is None:
+        return []
+    tree, reader = parsed
+    read = next((r for case in _cases(reader, tree) if (r := reader.read(case)) is not None),
+                None)
+    if read is None:
+        return []
+    text = ast.unparse(read).replace(TARGET, variable)
+    known = decision | set(BUILTINS) | {m.name for m in space.memory} | {variable}
+    here = ast.dump(ast.parse(space.here[1], mode="eval").body)
+    kind = next(iter(space.types), None)
+    out: list[str] = []
+    for parameter in (p for p in space.parameters if p.kind == kind):
+        values = {m.name: ast.parse(f"({update})".replace("PARAM", variable), mode="eval").body
+                  for m in space.memory for name, update in m.updates
+                  if name == parameter.primitive}
+        moved = _Moving(values, here, variable).visit(ast.parse(text, mode="eval").body)
+        after = ast.unparse(ast.fix_missing_locations(moved))
+        if after != text and after not in out and _free_names(moved) <= known:
+            out.append(after)
+    return out
+
+
+class _Moving(ast.NodeTransformer):
+    """Loads of the memory names ``values`` names replaced by their values, and the
+    expression of where the agent is (``here``, dumped) by ``variable``, all at once."""
+
+    def __init__(self, values: dict[str, ast.expr], here: str, variable: str):
+        self.values, self.here, self.variable = values, here, variable
+
+    def visit_Name(self, node: ast.Name) -> ast.expr:
+        if isinstance(node.ctx, ast.Load) and node.id in self.values:
+            return copy.deepcopy(self.values[node.id])
+        return node
+
+    def visit_Call(self, node: ast.Call) -> ast.expr:
+        if ast.dump(node) == self.here:
+            return ast.Name(self.variable, ast.Load())
+        return self.generic_visit(node)
 
 
 def witnesses(node: ast.expr) -> list[ast.expr]:

@@ -33,6 +33,7 @@ from vlb_gym.core.search_space import name_pattern as _name
 
 END = "<end>"
 CHOSEN = "chosen"  # the variable a parameter that reads updated memory is chosen into
+MOVED = "promised_after"  # the functions of a promise read after one more move (chosen first)
 
 
 @dataclass(frozen=True)
@@ -153,10 +154,11 @@ def chosen_first(space: SearchSpace, act: Act) -> bool:
     stood on"), which after the update would never be the cell it is about to add, where the
     space says where the agent is (to start :data:`CHOSEN` from). Any other reads the memory as
     updated (``path[-2]`` is then the cell before the one moved to, as a promise's
-    ``moves()[-2]`` reads it after the move)."""
-    return space.here is not None and any(
+    ``moves()[-2]`` reads it after the move), but one that calls a :data:`MOVED` function (a
+    promise read as it would be after this move: the updates are in it)."""
+    return space.here is not None and (bool(re.search(rf"\b{MOVED}\d*\(", act.param)) or any(
         re.search(rf" not in {re.escape(name)}(?![\w'])", act.param)
-        for name, _ in memory_updates(space, act.primitive))
+        for name, _ in memory_updates(space, act.primitive)))
 
 
 def _ids(k: int, body: tuple[Act, ...]) -> list[str]:

@@ -29,6 +29,8 @@ every later prefix, at :data:`USEFUL_DISCOUNT` of their cost.
 
 A reading of the promise and a belief that would take comprehension loops inline become
 functions of the behavior (``promised_at(c)``: "would the promise hold if I ended in c?";
+``promised_after(c)``: "... if one more move took me to c and I stopped?", the memory that move
+updates read as updated, so a parameter that calls it is chosen before the updates;
 ``believed_reachable_goals()``), declared in the file it writes: the expression language allows
 three loops an expression, and seeking where a promise holds filters a list by such a reading.
 
@@ -57,9 +59,9 @@ from vlb_gym.verify.campaign import episode_seed
 from vlb_gym.verify.episode import run_episode
 from vlb_gym.wrappers.robustness import RobustnessWrapper
 
-from .beliefs import _free_names, literals, numbers, readings
+from .beliefs import _free_names, after_moving, literals, numbers, readings
 from .executor import FAILED, OPEN, Executor, Run, _frozen
-from .programs import Act, Loop, Program, Set, Statement, Stop, _loops, acts, reads
+from .programs import MOVED, Act, Loop, Program, Set, Statement, Stop, _loops, acts, reads
 from .statements import Statements
 from .terms import (BOUND, Bank, Context, Vocabulary, call_name, conforms, contexts,
                     infer_kind)
@@ -272,10 +274,14 @@ class Search:
             kind = infer_kind(text, found, space.types, binders[0] if bound and binders else None,
                               vocabulary)
             if kind == "bool" and bound and _loops(ast.parse(text, mode="eval")):
-                text = self._name_condition(text, found)
+                text = self._name_condition(text, found) or text
             if kind is not None:
                 vocabulary.fragments.append((kind, text, 1 if bound else 0))
                 cheap |= {call_name(n) for n in vocabulary.helpers if f"{call_name(n)}(" in text}
+        for text in after_moving(self.promise.expr, believed, outcome, decision, BOUND[0]):
+            named = self._name_condition(self._factored(text, known, found), found, MOVED)
+            if named is not None:
+                vocabulary.fragments.append(("bool", named, 1))
         vocabulary.constants = list(dict.fromkeys(vocabulary.constants))
         vocabulary.cheap = frozenset(cheap | self._cheap | set(space.common))
         space = self._narrowed(vocabulary)
@@ -348,14 +354,15 @@ class Search:
                 beliefs[outcome] = f"believed_{outcome}()"
         return beliefs
 
-    def _name_condition(self, text: str, found: list[Context]) -> str:
-        """A call of a function of the behavior that holds where the promise's reading
-        ``text`` of the bound cell does (``text`` itself where the language refuses it): the
-        place the promise would hold at is sought by filtering a list by it, and the reading
-        alone may use up the expression language's comprehension loops."""
-        taken = sum(name.startswith("promised_at") for name in self.functions)
-        name = f"promised_at{taken + 1 if taken else ''}"
-        return f"{name}({BOUND[0]})" if self._name(name, (BOUND[0],), text, True, found) else text
+    def _name_condition(self, text: str, found: list[Context], prefix: str = "promised_at"
+                        ) -> str | None:
+        """A call of a function of the behavior (named ``prefix``, numbered) that holds where
+        the promise's reading ``text`` of the bound cell does (None where the language refuses
+        it): the place the promise would hold at is sought by filtering a list by it, and the
+        reading alone may use up the expression language's comprehension loops."""
+        taken = sum(re.fullmatch(rf"{prefix}\d*", name) is not None for name in self.functions)
+        name = f"{prefix}{taken + 1 if taken else ''}"
+        return f"{name}({BOUND[0]})" if self._name(name, (BOUND[0],), text, True, found) else None
 
     def learn(self, seeds: list[int]) -> None:
         """Screen every later program on the episodes of ``seeds`` too, as probes while there

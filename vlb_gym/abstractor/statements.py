@@ -29,7 +29,7 @@ from typing import Any
 
 from vlb_gym.core.search_space import Parameter, SearchSpace
 
-from .programs import (Act, If, Loop, Set, Statement, Stop, Use, _list_of, _mentions,
+from .programs import (MOVED, Act, If, Loop, Set, Statement, Stop, Use, _list_of, _mentions,
                        conjunction)
 from .terms import Bank, Term, negation
 
@@ -185,7 +185,8 @@ class Statements:
         promise (a place the promise would hold at, the first of the places it would, a memory
         variable the promise's readings name: where the behavior began, the first of the places,
         where the promise counts them, else a memory it may end at: "onto a goal in view, else
-        home"), each also as "if it does something" (go to the start unless there); one that
+        home"), each also as "if it does something" (go to the start unless there; but one that
+        filters by where the promise would hold after the move: the move there is counted); one that
         picks from the places an ``all`` of the promise speaks of first as a loop over them
         ("each goal not yet moved onto": on episodes where one is left it acts as the single
         act, and of programs that act alike the first built is kept)."""
@@ -207,7 +208,9 @@ class Statements:
                         act = Act(parameter.primitive, text)
                         each = [Loop("True", (act,))] if _list_of(text) in \
                             self.bank.vocabulary.each else []
-                        out += [*each, act, *(If(g, (act,)) for g in [self.acting(act)] if g)]
+                        unless = [If(g, (act,)) for g in [self.acting(act)]
+                                  if g and MOVED not in text]  # (a move there is counted)
+                        out += [*each, act, *unless]
         return out
 
     def _counted(self, listed: str) -> bool:
