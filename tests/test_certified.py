@@ -28,7 +28,7 @@ from vlb_gym.abstractor.search import (MAX_ORDERS, MAX_PROBES, MAX_USEFUL, PROBE
                                         named_from_here, said)
 from vlb_gym.abstractor.statements import STOP
 from vlb_gym.abstractor.terms import Vocabulary, contexts
-from vlb_gym.core.expressions import MAX_GENERATORS
+from vlb_gym.core.expressions import MAX_GENERATORS, MAX_NODES
 from vlb_gym.core.library import BehaviorLibrary, compile_spec, load_behavior
 from vlb_gym.core.runtime import BehaviorPolicy
 from vlb_gym.core.spec import Promise, spec_from_data
@@ -549,6 +549,23 @@ def test_where_the_promise_would_hold_after_one_more_move_is_one_act():
         document = search.document(Found(program, 0), "cluttered_search_home", "")
         assert any(edge.get("param") == CHOSEN for edge in document["edges"])
         assert search.rescreen(document) is None
+    finally:
+        search.close()
+
+
+def test_a_reading_after_a_move_past_the_languages_bound_is_left_out():
+    """A promise (untrusted: a user's or a model's) at the expression language's bound of syntax
+    nodes, whose every part counts the moves and steps: read after one more move it is larger
+    still, the language refuses the function, and the search goes on without it."""
+    part = "len(moves()) == 3 and steps_after_goal() == 1"
+    count = 1
+    while len(list(ast.walk(ast.parse(" and ".join([part] * (count + 1)), mode="eval")))) \
+            <= MAX_NODES:
+        count += 1
+    search = Search(GRID_ID, Promise(expr=" and ".join([part] * count)), "move", screen_seed=1)
+    try:
+        assert search.statements().completions()
+        assert not any(name.startswith("promised_after") for name in search.functions)
     finally:
         search.close()
 

@@ -9,8 +9,9 @@ be read, as ``X if C else primitives() == [...]``, its largest parts that can ar
 ``X``), twice: with the place where the behavior ends read as *here* ("would the promise hold
 if I stopped now?": a stopping condition) and as a bound variable ``c`` ("would it hold if I
 ended in c?": a filter for where to go); :func:`after_moving` reads it once more as it would be
-after one more move to ``c`` (the steps and moves it counts one more). A comprehension over a few values written out
-(``[E for K in [known_before_last(), known_cells()]]``) is read at each value it can be. Every
+after one more move to ``c`` (the steps and moves it counts one more). A comprehension over a
+few values written out (``[E for K in [known_before_last(), known_cells()]]``) is read at each
+value it can be. Every
 sub-expression of the readings is offered to the search at the cost of one name, with the
 constants the promise and the request name (numbers, cells, lists of cells). A place
 the promise says is the least or greatest of a list's elements by some score (the nearest, the

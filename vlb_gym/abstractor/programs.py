@@ -156,9 +156,15 @@ def chosen_first(space: SearchSpace, act: Act) -> bool:
     updated (``path[-2]`` is then the cell before the one moved to, as a promise's
     ``moves()[-2]`` reads it after the move), but one that calls a :data:`MOVED` function (a
     promise read as it would be after this move: the updates are in it)."""
-    return space.here is not None and (bool(re.search(rf"\b{MOVED}\d*\(", act.param)) or any(
+    return space.here is not None and (after_a_move(act.param) or any(
         re.search(rf" not in {re.escape(name)}(?![\w'])", act.param)
         for name, _ in memory_updates(space, act.primitive)))
+
+
+def after_a_move(param: str) -> bool:
+    """Whether the parameter ``param`` calls a :data:`MOVED` function (reads the promise as it
+    would be after the move it makes)."""
+    return re.search(rf"\b{MOVED}\d*\(", param) is not None
 
 
 def _ids(k: int, body: tuple[Act, ...]) -> list[str]:

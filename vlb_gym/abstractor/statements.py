@@ -29,8 +29,8 @@ from typing import Any
 
 from vlb_gym.core.search_space import Parameter, SearchSpace
 
-from .programs import (MOVED, Act, If, Loop, Set, Statement, Stop, Use, _list_of, _mentions,
-                       conjunction)
+from .programs import (Act, If, Loop, Set, Statement, Stop, Use, _list_of, _mentions,
+                       after_a_move, conjunction)
 from .terms import Bank, Term, negation
 
 MAX_BODY = 3
@@ -186,8 +186,8 @@ class Statements:
         variable the promise's readings name: where the behavior began, the first of the places,
         where the promise counts them, else a memory it may end at: "onto a goal in view, else
         home"), each also as "if it does something" (go to the start unless there; but one that
-        filters by where the promise would hold after the move: the move there is counted); one that
-        picks from the places an ``all`` of the promise speaks of first as a loop over them
+        filters by where the promise would hold after the move: the move there counts); one
+        that picks from the places an ``all`` of the promise speaks of first as a loop over them
         ("each goal not yet moved onto": on episodes where one is left it acts as the single
         act, and of programs that act alike the first built is kept)."""
         out: list[Statement] = []
@@ -209,7 +209,7 @@ class Statements:
                         each = [Loop("True", (act,))] if _list_of(text) in \
                             self.bank.vocabulary.each else []
                         unless = [If(g, (act,)) for g in [self.acting(act)]
-                                  if g and MOVED not in text]  # (a move there is counted)
+                                  if g and not after_a_move(text)]  # (a move there counts)
                         out += [*each, act, *unless]
         return out
 
