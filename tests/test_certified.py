@@ -1008,7 +1008,8 @@ def test_every_reading_of_every_task_promise_is_an_expression(interface):
                                         "heldout10", "heldout11", "heldout12", "heldout13",
                                         "heldout14", "heldout15", "heldout16",
                                         "heldout17", "heldout18", "heldout19",
-                                        "heldout20", "heldout21", "dev_general")
+                                        "heldout20", "heldout21", "heldout22",
+                                        "dev_general")
                        for t in load_tasks(ROOT / "benchmarks" / folder / "tasks.py"))]
     grid = [t for t in tasks if t.env_id == GRID_ID]
     assert len(grid) >= 70
@@ -1223,7 +1224,7 @@ def test_the_bank_holds_no_evaluation_task():
                                "heldout6", "heldout7", "heldout8", "heldout9", "heldout10",
                                "heldout11", "heldout12", "heldout13", "heldout14",
                                "heldout15", "heldout16", "heldout17", "heldout18", "heldout19",
-                               "heldout20", "heldout21", "dev_general")
+                               "heldout20", "heldout21", "heldout22", "dev_general")
               for t in load_tasks(ROOT / "benchmarks" / folder / "tasks.py")]
     for task in [*TASKS, *others]:
         assert task.description.lower() not in requests

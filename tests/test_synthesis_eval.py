@@ -170,7 +170,7 @@ def test_the_harness_takes_a_promise_a_least_behavior_keeps_only_where_the_task_
     assert taken.certified and taken.done == 0  # certified, and not the task
 
 
-@pytest.mark.parametrize("folder", ["heldout21", "heldout20", "heldout19", "heldout18", "heldout17", "heldout16", "heldout15", "heldout14", "heldout13", "heldout12", "heldout11", "heldout10", "heldout9", "heldout8", "heldout7",
+@pytest.mark.parametrize("folder", ["heldout22", "heldout21", "heldout20", "heldout19", "heldout18", "heldout17", "heldout16", "heldout15", "heldout14", "heldout13", "heldout12", "heldout11", "heldout10", "heldout9", "heldout8", "heldout7",
                                     "heldout6", "heldout5", "heldout4", "heldout3", "heldout2",
                                     "dev_general", "heldout"])
 def test_task_files_are_satisfiable_faithful_and_checkable(tmp_path, folder):
@@ -185,7 +185,7 @@ def test_task_files_are_satisfiable_faithful_and_checkable(tmp_path, folder):
     if folder in ("heldout2", "heldout3", "heldout4", "heldout5", "heldout6",
                   "heldout7", "heldout8", "heldout9", "heldout10", "heldout11", "heldout12",
                   "heldout13", "heldout14", "heldout15", "heldout16", "heldout17", "heldout18",
-                  "heldout19", "heldout20", "heldout21"):
+                  "heldout19", "heldout20", "heldout21", "heldout22"):
         assert len([t for t in tasks if t.env_id == "VLB-GridExplore-v0"]) >= 10
         assert 2 <= len([t for t in tasks if t.env_id == "VLB-Scoop-v0"]) <= 3
     assert all(t.promise for t in tasks)
