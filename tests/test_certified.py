@@ -553,6 +553,41 @@ def test_where_the_promise_would_hold_after_one_more_move_is_one_act():
         search.close()
 
 
+LEFT_WALK_OUT_OF_DEAD_END = Promise(expr=(  # (heldout20's left_walk_dead_end_back)
+    "any(W >= 0 and primitives() == ['sense'] + ['navigate', 'sense'] * W + ['navigate'] * E "
+    "and moves()[:W] == [(i - k, j) for k in [1, 2, 3, 4, 5, 6, 7, 8, 9][:W]] and "
+    "(not (0 <= i - W - 1 <= 9) or is_obstacle((i - W - 1, j))) and "
+    "((0 if i - W == 9 or is_obstacle((i - W + 1, j)) else 1) + (0 if j == 9 or "
+    "is_obstacle((i - W, j + 1)) else 1) + (0 if j == 0 or is_obstacle((i - W, j - 1)) else 1) "
+    "== 1) == (E == 1) and "
+    "(E == 0 or (moves()[-1] in neighbours((i - W, j)) and not is_obstacle(moves()[-1]))) "
+    "for E in [0, 1] for W, i, j in [(len(sensed()) - 1, start_cell()[0], start_cell()[1])])"))
+
+
+def test_a_move_the_promise_asks_for_only_in_some_cases_is_read_after_the_move():
+    """"Walk left while free, sensing; out of a dead end with one move": after the walk, where
+    the promise would hold after one more move to ``c`` is the dead end's one free neighbour,
+    and nowhere where the walk did not end in one -- the primitives run (``ran``) are read one
+    move longer, so the case with no move no longer holds for every ``c``. The behavior file
+    keeps ``ran`` and the runtime agrees."""
+    search = Search(GRID_ID, LEFT_WALK_OUT_OF_DEAD_END, "sense, walk left while free, sensing "
+                    "after every move; back out of a dead end onto its free neighbour",
+                    screen_seed=777)
+    try:
+        walk = (Act("sense", "current_cell()"), Loop("is_free(beside(current_cell(), 'left'))", (
+            Act("navigate", "beside(current_cell(), 'left')"), Act("sense", "current_cell()"))))
+        out = Act("navigate", "[c for c in adjacent() if promised_after(c)][0]")
+        assert out in search.statements().completions()
+        program = Program((*walk, out))
+        assert search.keeps(program)
+        assert not search.keeps(Program(walk))  # (a dead end is on some screening episode)
+        document = search.document(Found(program, 0), "left_walk_out_of_dead_end", "")
+        assert "ran" in document["variables"]
+        assert search.rescreen(document) is None
+    finally:
+        search.close()
+
+
 def test_a_reading_after_a_move_past_the_languages_bound_is_left_out():
     """A promise (untrusted: a user's or a model's) at the expression language's bound of syntax
     nodes, whose every part counts the moves and steps: read after one more move it is larger
@@ -848,6 +883,19 @@ def test_a_promise_is_read_as_it_would_be_after_one_more_move(interface):
                         decision) == ["(path + [c])[1:][-1:] == [home] and "
                                       "len((path + [c])[1:]) == 3"]
     assert after_moving("final_cell() == start_cell()", space, outcome, decision) == []
+    assert after_moving("primitives()[-2:] == ['sense', 'navigate'] and len(moves()) == 2",
+                        space, outcome, decision) == [  # the primitives run: one more move
+        "(ran + ['navigate'])[-2:] == ['sense', 'navigate'] and len((path + [c])[1:]) == 2"]
+
+
+def test_the_primitives_a_promise_lists_are_read_from_the_behaviors_memory(interface):
+    """A promise's ``primitives()`` -- how most promises say what is done in which order -- is
+    read as the memory ``ran`` every behavior that reads it keeps (not dropped from the reading,
+    which would let any order pass)."""
+    read = dict(readings("primitives() == ['sense'] * len(sensed())", interface.search_space(),
+                         set(interface.make_judge().functions()),
+                         set(interface.make_helpers().functions())))
+    assert read["ran == ['sense'] * len(sensed_from)"] is False
 
 
 @pytest.mark.parametrize("expr, places", [

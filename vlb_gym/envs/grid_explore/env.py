@@ -135,8 +135,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
         behaviors remember where they began (``home``), where they have stood (``path``),
         where they sensed from (``sensed_from``: what a promise's ``sensed()`` reads, exact
         after moves that sense nothing), what they did once a goal was known (``since_goal``,
-        ``after_goal``: a promise's ``steps_after_goal()`` and ``moves_after_goal()``) and a
-        cell they chose to (``mark``)."""
+        ``after_goal``: a promise's ``steps_after_goal()`` and ``moves_after_goal()``), the
+        primitives they ran (``ran``: a promise's ``primitives()``) and a cell they chose to
+        (``mark``)."""
         return SearchSpace(
             types={"cell": Cell},
             parameters=(Parameter("sense", fixed=("current_cell()",)),
@@ -159,6 +160,9 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                     Memory("after_goal", "list[cell]", "[]",
                            (("navigate", "after_goal + [PARAM] if goal_found() else after_goal"),),
                            "the cells moved to with a goal already known, in order"),
+                    Memory("ran", "list[str]", "[]",
+                           (("sense", "ran + ['sense']"), ("navigate", "ran + ['navigate']")),
+                           "the names of the primitives run, in order"),
                     Memory("mark", "cell", "current_cell()",
                            description="a cell the behavior chose to remember (at first, the "
                            "start)", settable=True)),
@@ -171,7 +175,7 @@ class GridExploreEnv(PrimitiveEnv[GridState]):
                                "go to the cell where it stands (its start) {times} times and "
                                "stop")),
             beliefs={"start_cell": "home", "final_cell": "TARGET", "moves": "path[1:]",
-                     "sensed": "sensed_from",
+                     "sensed": "sensed_from", "primitives": "ran",
                      "steps_after_goal": "since_goal if goal_found() else -1",
                      "moves_after_goal": "after_goal",
                      "is_goal": "label({0}) == 'goal'", "is_obstacle": "label({0}) == 'obstacle'",
