@@ -560,26 +560,16 @@ def test_where_the_promise_would_hold_after_one_more_move_is_one_act():
         search.close()
 
 
-LEFT_WALK_OUT_OF_DEAD_END = Promise(expr=(  # (heldout20's left_walk_dead_end_back)
-    "any(W >= 0 and primitives() == ['sense'] + ['navigate', 'sense'] * W + ['navigate'] * E "
-    "and moves()[:W] == [(i - k, j) for k in [1, 2, 3, 4, 5, 6, 7, 8, 9][:W]] and "
-    "(not (0 <= i - W - 1 <= 9) or is_obstacle((i - W - 1, j))) and "
-    "((0 if i - W == 9 or is_obstacle((i - W + 1, j)) else 1) + (0 if j == 9 or "
-    "is_obstacle((i - W, j + 1)) else 1) + (0 if j == 0 or is_obstacle((i - W, j - 1)) else 1) "
-    "== 1) == (E == 1) and "
-    "(E == 0 or (moves()[-1] in neighbours((i - W, j)) and not is_obstacle(moves()[-1]))) "
-    "for E in [0, 1] for W, i, j in [(len(sensed()) - 1, start_cell()[0], start_cell()[1])])"))
-
-
 def test_a_move_the_promise_asks_for_only_in_some_cases_is_read_after_the_move():
     """"Walk left while free, sensing; out of a dead end with one move": after the walk, where
     the promise would hold after one more move to ``c`` is the dead end's one free neighbour,
     and nowhere where the walk did not end in one -- the primitives run (``ran``) are read one
     move longer, so the case with no move no longer holds for every ``c``. The behavior file
-    keeps ``ran`` and the runtime agrees."""
-    search = Search(GRID_ID, LEFT_WALK_OUT_OF_DEAD_END, "sense, walk left while free, sensing "
-                    "after every move; back out of a dead end onto its free neighbour",
-                    screen_seed=777)
+    keeps ``ran`` and the runtime agrees (heldout20's left_walk_dead_end_back)."""
+    from benchmarks.synthesis_eval import load_tasks
+    task = next(t for t in load_tasks(ROOT / "benchmarks" / "heldout20" / "tasks.py")
+                if t.name == "left_walk_dead_end_back")
+    search = Search(GRID_ID, Promise(expr=task.promise), task.description, screen_seed=777)
     try:
         walk = (Act("sense", "current_cell()"), Loop("is_free(beside(current_cell(), 'left'))", (
             Act("navigate", "beside(current_cell(), 'left')"), Act("sense", "current_cell()"))))

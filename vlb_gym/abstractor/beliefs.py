@@ -5,19 +5,19 @@ observes. The env's :attr:`~vlb_gym.core.search_space.SearchSpace.beliefs` say w
 believes of each outcome helper (``is_goal(x)`` -> ``label(x) == 'goal'``); :func:`readings`
 rewrites a promise through them, part by part (a part that names an outcome helper the env
 gives no belief for is left out: of ``A and B`` the reading is ``A``'s; where a whole cannot
-be read, as ``X if C else primitives() == [...]``, its largest parts that can are, ``C`` and
-``X``), twice: with the place where the behavior ends read as *here* ("would the promise hold
-if I stopped now?": a stopping condition) and as a bound variable ``c`` ("would it hold if I
-ended in c?": a filter for where to go); :func:`after_moving` reads it once more as it would be
-after one more move to ``c`` (the steps and moves it counts one more). A comprehension over a
-few values written out (``[E for K in [known_before_last(), known_cells()]]``) is read at each
-value it can be. Every
-sub-expression of the readings is offered to the search at the cost of one name, with the
-constants the promise and the request name (numbers, cells, lists of cells). A place
-the promise says is the least or greatest of a list's elements by some score (the nearest, the
-one with the fewest obstacles next to it: :func:`extremes`) is read as the expression that picks
-it, so that going there costs one name too, and so are the places a quantifier speaks of
-(:func:`witnesses`: of ``any``, where it holds; of ``all``, where it does not).
+be read, as ``X if C else known_before_last() == [...]``, its largest parts that can are, ``C``
+and ``X``), twice: with the place where the behavior ends read as *here* ("would the promise
+hold if I stopped now?": a stopping condition) and as a bound variable ``c`` ("would it hold if
+I ended in c?": a filter for where to go); :func:`after_moving` reads it once more as it would
+be after one more move to ``c`` (the steps and moves it counts one more). A comprehension over
+a few values written out (``[E for K in [known_before_last(), known_cells()]]``) is read at
+each value it can be. Every sub-expression of the readings is offered to the search at the cost
+of one name, with the constants the promise and the request name (numbers, cells, lists of
+cells). A place the promise says is the least or greatest of a list's elements by some score
+(the nearest, the one with the fewest obstacles next to it: :func:`extremes`) is read as the
+expression that picks it, so that going there costs one name too, and so are the places a
+quantifier speaks of (:func:`witnesses`: of ``any``, where it holds; of ``all``, where it does
+not).
 """
 
 from __future__ import annotations
@@ -501,8 +501,9 @@ def _replace(root: ast.AST, old: ast.AST, new: ast.AST) -> None:
 
 def _readable(reader: _Reader, node: ast.AST) -> list[ast.AST]:
     """``node`` read through the beliefs or, where it cannot be read whole (``X if C else
-    primitives() == [...]``: no belief reads the steps), the largest parts of it that can
-    (``C``, ``X``), outermost first; so are the parts of those an ``and``/``or`` left out."""
+    known_before_last() == [...]``: no belief reads what was known before), the largest parts
+    of it that can (``C``, ``X``), outermost first; so are the parts of those an
+    ``and``/``or`` left out."""
     read = reader.read(node)
     if read is None:
         return [part for each in _at_each(node) for part in _readable(reader, each)] \
